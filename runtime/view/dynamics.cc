@@ -38,12 +38,6 @@ bool SimulateFree(ViewMinimalDop853* sim, double t0, const ModelTypes<ViewModel>
   return sim->Simulate(t0, q0, qd0, t_end, observer, summary, last);
 }
 
-namespace internal {
-template void ConditionAndDeterminantDynamic<1, Eigen::Map<const Eigen::MatrixXd>>(
-    const Eigen::Map<const Eigen::MatrixXd>&, double*, double*);
-template void ConditionAndDeterminantDynamic<1, ModelTypes<ViewModel>::MatCPhi>(const ModelTypes<ViewModel>::MatCPhi&,
-                                                                                double*, double*);
-}  // namespace internal
 MECHGEN_VIEW_PRESCRIBED_MEMBERS(, ViewPrescribedDopri5)
 MECHGEN_VIEW_PRESCRIBED_MEMBERS(, ViewPrescribedDop853)
 bool InitializePrescribed(ViewPrescribedDopri5* sim, double t0, const ViewPrescribedDopri5::VecF& qf0) {

@@ -194,6 +194,36 @@ void ConditionAndDeterminant(const Eigen::MatrixBase<Derived>& A, double* cond, 
   if (!std::isfinite(*cond)) *cond = kInf;
 }
 
+/// The largest square matrix ConditionAndDeterminantDynamic() takes beyond its fixed sizes
+/// (the view's Phi_phi has at most ModelView::kMaxPhi = 48 rows).
+inline constexpr int kMaxDynamicPhi = 64;
+
+/**
+ * \brief ConditionAndDeterminant() of a square matrix whose size is known at run time only
+ *        (the view's Phi_phi, issue 43).
+ *
+ * On a fixed-size copy up to 16 x 16: the same arithmetic as the fixed-size instantiation, so
+ * the same bits; beyond, Eigen's PartialPivLU on a bounded dynamic copy (at most
+ * kMaxDynamicPhi rows; no allocation; the same method, its sums perhaps in another order).
+ * The view's library compiles it once for its matrices (core/view_runtime.h: extern template).
+ */
+template <int k = 1, class A>
+void ConditionAndDeterminantDynamic(const A& a, double* cond, double* det) {
+  if constexpr (k <= 16) {
+    if (a.rows() == k) {
+      ConditionAndDeterminant(Eigen::Matrix<double, k, k>(a), cond, det);
+      return;
+    }
+    ConditionAndDeterminantDynamic<k + 1>(a, cond, det);
+  } else {
+    using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDynamicPhi, kMaxDynamicPhi>;
+    const Eigen::PartialPivLU<Matrix> lu{Matrix(a)};
+    *det = lu.determinant();
+    const double rcond = lu.rcond();
+    *cond = rcond > 0 && std::isfinite(1.0 / rcond) ? 1.0 / rcond : std::numeric_limits<double>::infinity();
+  }
+}
+
 /**
  * \brief The smallest singular value of a square fixed-size matrix and its right singular
  *        vector: the distance of A to the nearest singular matrix in the 2-norm

@@ -44,6 +44,15 @@
 #include "mechgen/sweep/sweep.h"
 
 namespace mechgen {
+// Phi_phi's conditioning on fixed-size copies of 1 to 16 rows (core/linear_algebra.h), of a
+// bounded copy of the view's matrices: compiled in the library only (runtime/view/
+// conditioning.cc), read by the statics, the dynamics' position tracking and the
+// kinetostatics.
+extern template void ConditionAndDeterminantDynamic<1, Eigen::Map<const Eigen::MatrixXd>>(
+    const Eigen::Map<const Eigen::MatrixXd>&, double*, double*);
+extern template void ConditionAndDeterminantDynamic<1, ModelTypes<ViewModel>::MatCPhi>(
+    const ModelTypes<ViewModel>::MatCPhi&, double*, double*);
+
 namespace position {
 extern template class PositionSolver<ViewModel, NewtonAssembler>;
 extern template void ComputeMotion<ViewModel>(const State<ViewModel>&, const ModelTypes<ViewModel>::VecQ&,
@@ -127,15 +136,6 @@ bool SimulateFree(ViewMinimalDop853* sim, double t0, const ModelTypes<ViewModel>
                   const ModelTypes<ViewModel>::VecQ& qd0, double t_end, ViewSampleFn<ViewMinimalDop853>& observer,
                   MinimalSummary* summary, Sample<ViewModel>* last);
 
-// Phi_phi's conditioning on fixed-size copies of 1 to 16 rows (forward.h), of the view's
-// Coefficients and of a bounded copy: compiled in the library only (the inline members above
-// that a program's compiler may still expand call these).
-namespace internal {
-extern template void ConditionAndDeterminantDynamic<1, Eigen::Map<const Eigen::MatrixXd>>(
-    const Eigen::Map<const Eigen::MatrixXd>&, double*, double*);
-extern template void ConditionAndDeterminantDynamic<1, ModelTypes<ViewModel>::MatCPhi>(
-    const ModelTypes<ViewModel>::MatCPhi&, double*, double*);
-}  // namespace internal
 
 /// The driven motion through the view (dynamics/prescribed.h: `mechgen_view simulate --drive`,
 /// a study's drive:): the driven inputs and their laws (AnyDrive) known at run time, with

@@ -94,34 +94,12 @@ void CallDynamics(const typename M::template ParamsT<double>& p, const Eigen::Ma
   CallDynamics(M(), p, q, phi, qd, t, c, d, trig);
 }
 
-/// The largest Phi_phi of a Dynamic size (the view's, at most ModelView::kMaxPhi = 48 rows).
-inline constexpr int kMaxDynamicPhi = 64;
-
-/// ConditionAndDeterminant (core/linear_algebra.h) of a square matrix whose size is known at
-/// run time only (the view's Phi_phi, issue 43): on a fixed-size copy up to 16 x 16, the same
-/// arithmetic as the fixed-size instantiation; beyond, Eigen's PartialPivLU on a bounded
-/// dynamic copy (no allocation; the same method, its sums perhaps in another order).
-template <int k = 1, class A>
-void ConditionAndDeterminantDynamic(const A& a, double* cond, double* det) {
-  if constexpr (k <= 16) {
-    if (a.rows() == k) {
-      ConditionAndDeterminant(Eigen::Matrix<double, k, k>(a), cond, det);
-      return;
-    }
-    ConditionAndDeterminantDynamic<k + 1>(a, cond, det);
-  } else {
-    using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDynamicPhi, kMaxDynamicPhi>;
-    const Eigen::PartialPivLU<Matrix> lu{Matrix(a)};
-    *det = lu.determinant();
-    const double rcond = lu.rcond();
-    *cond = rcond > 0 && std::isfinite(1.0 / rcond) ? 1.0 / rcond : std::numeric_limits<double>::infinity();
-  }
-}
-/// ConditionAndDeterminant of a fixed-size matrix, or of a dynamic one (above).
+/// ConditionAndDeterminant of a fixed-size matrix, or of a dynamic one
+/// (ConditionAndDeterminantDynamic, core/linear_algebra.h).
 template <class A>
 void ConditionAndDeterminantAny(const A& a, double* cond, double* det) {
   if constexpr (A::RowsAtCompileTime == Eigen::Dynamic) {
-    ConditionAndDeterminantDynamic(a, cond, det);
+    mechgen::ConditionAndDeterminantDynamic(a, cond, det);
   } else {
     ConditionAndDeterminant(a, cond, det);
   }

@@ -223,23 +223,6 @@ void EvaluateStiffness(const M& model, const typename ModelTypes<M>::Params& p,
   }
 }
 
-/// ConditionAndDeterminant() of a bounded dynamic square matrix (the view's Phi_phi): on a
-/// fixed-size copy up to 16 x 16 (the same arithmetic as the fixed-size instantiation, so the
-/// same bits), above with Eigen's PartialPivLU on the bounded matrix (its rcond estimate).
-template <class MatCPhi, int k = 1, class A>
-void ConditionAndDeterminantDynamic(const A& Phi_phi, double* cond, double* det) {
-  if constexpr (k > 16 || k > MatCPhi::MaxRowsAtCompileTime) {
-    const Eigen::PartialPivLU<MatCPhi> lu{MatCPhi(Phi_phi)};
-    *det = lu.determinant();
-    const double rcond = lu.rcond();
-    *cond = rcond > 0 ? 1.0 / rcond : std::numeric_limits<double>::infinity();
-    if (!std::isfinite(*cond)) *cond = std::numeric_limits<double>::infinity();
-  } else {
-    if (Phi_phi.rows() != k) return ConditionAndDeterminantDynamic<MatCPhi, k + 1>(Phi_phi, cond, det);
-    ConditionAndDeterminant(Eigen::Matrix<double, k, k>(Phi_phi), cond, det);
-  }
-}
-
 /// cond_1(Phi_phi) at (q, phi): from the coefficients when they carry Phi_phi (generated
 /// headers do), else from Model::Phi; 1 for a model without constraints (kLoopFree: the
 /// empty Phi_phi, never singular).
@@ -257,11 +240,11 @@ double Condition(const M& model, const typename ModelTypes<M>::Params& p,
     if (C::LoopFree(model)) {
       cond = 1;
     } else if (C::CoeffsHavePhi(model)) {
-      ConditionAndDeterminantDynamic<MatCPhi>(c.Phi_phi, &cond, &det);
+      ConditionAndDeterminantDynamic(c.Phi_phi, &cond, &det);
     } else {
       MatCPhi Phi_phi;
       C::Phi(model, p, q, phi, nullptr, &Phi_phi, nullptr);
-      ConditionAndDeterminantDynamic<MatCPhi>(Phi_phi, &cond, &det);
+      ConditionAndDeterminantDynamic(Phi_phi, &cond, &det);
     }
   } else if constexpr (ModelFeatures<M>::kCoeffsHavePhi) {
     (void)model;
