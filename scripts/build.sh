@@ -4,7 +4,7 @@
 # leaves the benchmark programs out (scripts/test.sh: no test runs them; each bench/*/run.sh
 # configures them back in); MECHGEN_ALL_MODEL_TOOLS=OFF builds only the shipped models' tools
 # that a test runs (scripts/test.sh; see the top-level CMakeLists.txt); MECHGEN_UNIT_TESTS=OFF
-# leaves the GoogleTest programs to the sanitizer stage (scripts/test.sh). MECHGEN_DEPS=main
+# leaves the GoogleTest programs out (a quicker build; the top-level CMakeLists.txt). MECHGEN_DEPS=main
 # installs only the main job's packages (scripts/deps.sh), MECHGEN_BUILD_TESTS=OFF configures
 # without the test suite (scripts/quickstart.sh: it needs neither GoogleTest nor the tests').
 #   bash scripts/build.sh [target ...]
