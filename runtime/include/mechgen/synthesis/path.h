@@ -406,44 +406,23 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
   return BindPathTask(GeneratedModel<M>(), task, base, out, error);
 }
 
-/// Whether Phi_phi is regular by the project's one singular-configuration threshold
-/// (core/constants.h: 1/cond_1(Phi_phi) >= kMinRcond, the position solver's
-/// Options::min_rcond, the same test as its Classify): false at a dead point or a change
-/// point, or so near one that K has lost six digits, where the runtime's continuation and the
-/// sweep refuse the configuration.
-namespace bind_internal {
-/// ConditionAndDeterminant of a fixed-size copy of A, chosen by A's size (k <= 4: its closed-form
-/// inverse), else its PartialPivLU way on the bounded matrix.
-template <int k, class Matrix>
-void ConditionAndDeterminantOfSize(const Matrix& A, double* cond, double* det) {
-  if constexpr (k > 4) {
-    const Eigen::PartialPivLU<typename Matrix::PlainObject> lu(A);
-    *det = lu.determinant();
-    const double rcond = lu.rcond();
-    *cond = rcond > 0 && std::isfinite(1.0 / rcond) ? 1.0 / rcond : kInf;
-  } else if (A.rows() != k) {
-    ConditionAndDeterminantOfSize<k + 1>(A, cond, det);
-  } else {
-    ConditionAndDeterminant(Eigen::Matrix<double, k, k>(A), cond, det);
-  }
-}
-}  // namespace bind_internal
-
 /// ConditionAndDeterminant (core/linear_algebra.h) of a fixed-size matrix, or of one whose size
-/// is known at run time only (the model view's Phi_phi). Up to 4 x 4 (every four-bar: Phi_phi is
-/// 2 x 2) on a fixed-size copy of its size: the same arithmetic as the fixed-size model's, to the
-/// bit. Above, both are Eigen's PartialPivLU and its 1/rcond() estimate, the view's on the
-/// bounded dynamic matrix, which may round differently in the last bits (Eigen's kernels differ
-/// by size class); the synthesis reads only the threshold Regular() and the sign of det.
+/// is known at run time only (the model view's Phi_phi: ConditionAndDeterminantDynamic, on a
+/// fixed-size copy up to 16 x 16, the same arithmetic as the fixed-size model's, to the bit).
 template <class Matrix>
 void CondDet(const Matrix& A, double* cond, double* det) {
   if constexpr (Matrix::RowsAtCompileTime != Eigen::Dynamic) {
     ConditionAndDeterminant(A, cond, det);
   } else {
-    bind_internal::ConditionAndDeterminantOfSize<1>(A, cond, det);
+    ConditionAndDeterminantDynamic(A, cond, det);
   }
 }
 
+/// Whether Phi_phi is regular by the project's one singular-configuration threshold
+/// (core/constants.h: 1/cond_1(Phi_phi) >= kMinRcond, the position solver's
+/// Options::min_rcond, the same test as its Classify): false at a dead point or a change
+/// point, or so near one that K has lost six digits, where the runtime's continuation and the
+/// sweep refuse the configuration.
 template <class Matrix>
 bool Regular(const Matrix& Phi_phi) {
   double cond = kInf, det = 0;
