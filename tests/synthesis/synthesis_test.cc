@@ -2502,9 +2502,9 @@ TEST(PathSynthesis, ProjectionNeedsTheFourBarsRoles) {
 // (synthesis/view_synthesis.h) against the same templates on the generated fixed-size
 // synth_fourbar, one task of each kind the view runs, in one process: the same bytes (reports,
 // written model files, SVG, CSV) and the same numbers to the bit (the view calls the same
-// generated functions; Phi_phi's condition on a fixed-size copy, CondDet). The oracle is the
-// fixed-size instantiation, which the tests above check against hand formulas, central
-// differences and PHCpack.
+// generated functions; Phi_phi's condition on a fixed-size copy,
+// ConditionAndDeterminantDynamic). The oracle is the fixed-size instantiation, which the tests
+// above check against hand formulas, central differences and PHCpack.
 
 std::string ViewTaskFile(const std::string& name, const std::string& text) {
   const std::string path = ::testing::TempDir() + "/" + name;

@@ -158,9 +158,13 @@ MECHGEN_ALWAYS_INLINE double SmallNorm1(const Eigen::MatrixBase<Derived>& A) {
 
 }  // namespace internal
 
+template <int k = 1, class A>
+void ConditionAndDeterminantDynamic(const A& a, double* cond, double* det);
+
 /**
- * \brief cond_1(A) = ||A||_1 ||A^{-1}||_1 and det A of a square fixed-size matrix.
- * \param[in]  A     Square matrix (n x n), typically Phi_phi.
+ * \brief cond_1(A) = ||A||_1 ||A^{-1}||_1 and det A of a square matrix.
+ * \param[in]  A     Square matrix (n x n), typically Phi_phi. Of a size known at run time
+ *                   only (the model view's): ConditionAndDeterminantDynamic(), below.
  * \param[out] cond  Exact cond_1 for n <= 4 (closed-form inverse), else Eigen's
  *                   PartialPivLU 1/rcond() estimate; +inf when A is singular or not finite.
  * \param[out] det   det A (its sign labels the assembly mode).
@@ -169,9 +173,12 @@ template <class Derived>
 void ConditionAndDeterminant(const Eigen::MatrixBase<Derived>& A, double* cond, double* det) {
   using Matrix = typename Derived::PlainObject;
   constexpr int n = Matrix::RowsAtCompileTime;
-  static_assert(n == Matrix::ColsAtCompileTime && n != Eigen::Dynamic, "square, fixed size");
+  static_assert(n == Matrix::ColsAtCompileTime, "square");
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  if constexpr (n == 1) {
+  if constexpr (n == Eigen::Dynamic) {
+    ConditionAndDeterminantDynamic(A.derived(), cond, det);
+    return;
+  } else if constexpr (n == 1) {
     // Eigen's 1 x 1 computeInverseAndDetWithCheck, written out: the same arithmetic, and no
     // inverse left unwritten when a == 0 (GCC 12 warned it may be read uninitialized).
     const double a = A.derived().coeff(0, 0);
@@ -207,7 +214,7 @@ inline constexpr int kMaxDynamicPhi = 64;
  * kMaxDynamicPhi rows; no allocation; the same method, its sums perhaps in another order).
  * The view's library compiles it once for its matrices (core/view_runtime.h: extern template).
  */
-template <int k = 1, class A>
+template <int k, class A>
 void ConditionAndDeterminantDynamic(const A& a, double* cond, double* det) {
   if constexpr (k <= 16) {
     if (a.rows() == k) {

@@ -175,7 +175,7 @@ class Kinetostatics {
     if constexpr (kNphi != 0) {
       if (Calls::Nphi(model_) > 0) {
         double det = 0;
-        internal::ConditionAndDeterminantAny(c.Phi_phi, &cond, &det);
+        ConditionAndDeterminant(c.Phi_phi, &cond, &det);
         K_ = c.K;
       }
     }

@@ -94,17 +94,6 @@ void CallDynamics(const typename M::template ParamsT<double>& p, const Eigen::Ma
   CallDynamics(M(), p, q, phi, qd, t, c, d, trig);
 }
 
-/// ConditionAndDeterminant of a fixed-size matrix, or of a dynamic one
-/// (ConditionAndDeterminantDynamic, core/linear_algebra.h).
-template <class A>
-void ConditionAndDeterminantAny(const A& a, double* cond, double* det) {
-  if constexpr (A::RowsAtCompileTime == Eigen::Dynamic) {
-    mechgen::ConditionAndDeterminantDynamic(a, cond, det);
-  } else {
-    ConditionAndDeterminant(a, cond, det);
-  }
-}
-
 /// Whether every block of M::Solve is closed-form (no Newton block can land on the other
 /// branch): constant for a generated M, the view's at run time.
 template <class M>
@@ -152,7 +141,7 @@ bool SolveOnBranch(const M& model, const typename ModelTypes<M>::Params& p, cons
       typename ModelTypes<M>::Coefficients c;
       CallCoeffs(model, p, q, *phi, &c, trig);
       double cond = 0, det = 0;
-      ConditionAndDeterminantAny(c.Phi_phi, &cond, &det);
+      ConditionAndDeterminant(c.Phi_phi, &cond, &det);
       if (ref_det != 0 && (det > 0) != (ref_det > 0)) return false;
     }
     return true;
@@ -180,7 +169,7 @@ void ConditioningOf(const A& Phi_phi, double* rcond, double* det) {
       }
     }
     double cond = 0;
-    ConditionAndDeterminantAny(Phi_phi, &cond, det);
+    ConditionAndDeterminant(Phi_phi, &cond, det);
     *rcond = std::isfinite(cond) && cond > 0 ? 1.0 / cond : 0.0;
   }
 }

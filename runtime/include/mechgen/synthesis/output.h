@@ -242,7 +242,7 @@ bool WriteSynthesizedModel(const M& model, const std::string& model_text, const 
     typename ModelTypes<M>::MatCPhi Phi_phi;
     C::Phi(model, p, q, phi, nullptr, &Phi_phi, nullptr);
     double cond = 0, det = 0;
-    CondDet(Phi_phi, &cond, &det);
+    ConditionAndDeterminant(Phi_phi, &cond, &det);
     w.branch = det > 0 ? 1 : det < 0 ? -1 : 0;
   }
   w.q = q0;

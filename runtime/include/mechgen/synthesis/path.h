@@ -406,18 +406,6 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
   return BindPathTask(GeneratedModel<M>(), task, base, out, error);
 }
 
-/// ConditionAndDeterminant (core/linear_algebra.h) of a fixed-size matrix, or of one whose size
-/// is known at run time only (the model view's Phi_phi: ConditionAndDeterminantDynamic, on a
-/// fixed-size copy up to 16 x 16, the same arithmetic as the fixed-size model's, to the bit).
-template <class Matrix>
-void CondDet(const Matrix& A, double* cond, double* det) {
-  if constexpr (Matrix::RowsAtCompileTime != Eigen::Dynamic) {
-    ConditionAndDeterminant(A, cond, det);
-  } else {
-    ConditionAndDeterminantDynamic(A, cond, det);
-  }
-}
-
 /// Whether Phi_phi is regular by the project's one singular-configuration threshold
 /// (core/constants.h: 1/cond_1(Phi_phi) >= kMinRcond, the position solver's
 /// Options::min_rcond, the same test as its Classify): false at a dead point or a change
@@ -426,7 +414,7 @@ void CondDet(const Matrix& A, double* cond, double* det) {
 template <class Matrix>
 bool Regular(const Matrix& Phi_phi) {
   double cond = kInf, det = 0;
-  CondDet(Phi_phi, &cond, &det);
+  ConditionAndDeterminant(Phi_phi, &cond, &det);
   return det != 0 && std::isfinite(det) && cond * kMinRcond <= 1.0;
 }
 
