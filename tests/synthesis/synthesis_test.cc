@@ -396,7 +396,9 @@ TEST(PathSynthesis, CandidatesAreJudgedByThePositionSolversOneThreshold) {
     const double rcond = e / ((2 + e) * (2 + e));
     Eigen::Matrix2d A;
     A << 1, 1, 1, 1 + e;
-    const Eigen::MatrixXd B = A;
+    // (The view's own matrix type: its ConditionAndDeterminantDynamic is compiled once, in
+    // mechgen_runtime_view, not here.)
+    const mechgen::ModelTypes<mechgen::ViewModel>::MatCPhi B = A;
     EXPECT_EQ(Regular(A), rcond >= mechgen::kMinRcond) << "e = " << e << ", 1/cond_1 = " << rcond;
     EXPECT_EQ(Regular(B), rcond >= mechgen::kMinRcond) << "e = " << e << ", 1/cond_1 = " << rcond;
   }
