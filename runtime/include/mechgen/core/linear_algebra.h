@@ -164,7 +164,10 @@ void ConditionAndDeterminantDynamic(const A& a, double* cond, double* det);
 /**
  * \brief cond_1(A) = ||A||_1 ||A^{-1}||_1 and det A of a square matrix.
  * \param[in]  A     Square matrix (n x n), typically Phi_phi. Of a size known at run time
- *                   only (the model view's): ConditionAndDeterminantDynamic(), below.
+ *                   only (the model view's): ConditionAndDeterminantDynamic(), below, compiled
+ *                   once for the view's two types (view/conditioning.cc); any other run-time-
+ *                   sized type compiles its sixteen fixed-size LUs where it is called (about a
+ *                   minute of compile per translation unit).
  * \param[out] cond  Exact cond_1 for n <= 4 (closed-form inverse), else Eigen's
  *                   PartialPivLU 1/rcond() estimate; +inf when A is singular or not finite.
  * \param[out] det   det A (its sign labels the assembly mode).
