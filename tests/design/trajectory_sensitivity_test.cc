@@ -22,9 +22,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <functional>
 #include <limits>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -43,10 +47,12 @@ namespace {
 using mechgen::dynamics::AdjointSensitivity;
 using mechgen::dynamics::AdjointSummary;
 using mechgen::dynamics::Dop853;
+using mechgen::dynamics::Event;
 using mechgen::dynamics::SensitivityMethod;
 using mechgen::dynamics::MinimalDynamics;
 using mechgen::dynamics::MinimalOptions;
 using mechgen::dynamics::SensitivityOptions;
+using mechgen::dynamics::SensitivitySample;
 using mechgen::dynamics::SensitivitySummary;
 using mechgen::dynamics::Status;
 using mechgen::dynamics::TrajectorySensitivity;
@@ -232,7 +238,8 @@ TEST(TrajectorySensitivity, KeepsTheDesignDerivativeOfTheEnergyOfAConservativeMa
 
 // A non-Grashof four-bar (crank longer than the rest allows) swings into a limit position of
 // its crank: the run ends at a dead point with that status, the sensitivities not returned as
-// success.
+// success: every sample before it has finite S and Sd, the one at the dead point (the event
+// loop's witness, located there) has them withheld (NaN), by either method.
 TEST(TrajectorySensitivity, EndsAtADeadPointWithAStatus) {
   using M = mech::design_fourbar_massive::Model;
   M::ParamsT<double> p;
@@ -240,26 +247,36 @@ TEST(TrajectorySensitivity, EndsAtADeadPointWithAStatus) {
   *p.Find("b") = 3.5;
   *p.Find("c") = 2.5;
   *p.Find("d") = 4.0;
-  SensitivityOptions options;
-  options.sample_dt = 0.01;
-  TrajectorySensitivity<M> sens(p, options);
-  Eigen::Matrix<double, 1, 1> q0, qd0;
-  q0 << M_PI / 2;
-  qd0 << 3.0;
-  ASSERT_TRUE(sens.Initialize(q0));
-  double last_S = 0;
-  SensitivitySummary summary;
-  const bool ok = sens.Simulate(0.0, q0, qd0, 10.0,
-                                [&](const auto& s) {
-                                  EXPECT_TRUE(s.S.allFinite());
-                                  last_S = s.S.cwiseAbs().maxCoeff();
-                                  return true;
-                                },
-                                &summary);
-  EXPECT_FALSE(ok);
-  EXPECT_EQ(summary.status, Status::kDeadPoint) << FormatSummary(summary);
-  EXPECT_LT(summary.t_end, 10.0);
-  EXPECT_TRUE(std::isfinite(last_S));
+  for (const SensitivityMethod method : {SensitivityMethod::kStaggered, SensitivityMethod::kSimultaneous}) {
+    SensitivityOptions options;
+    options.sample_dt = 0.01;
+    options.method = method;
+    TrajectorySensitivity<M> sens(p, options);
+    Eigen::Matrix<double, 1, 1> q0, qd0;
+    q0 << M_PI / 2;
+    qd0 << 3.0;
+    ASSERT_TRUE(sens.Initialize(q0));
+    std::vector<SensitivitySample<M>> samples;
+    SensitivitySummary summary;
+    const bool ok = sens.Simulate(0.0, q0, qd0, 10.0,
+                                  [&](const auto& s) {
+                                    samples.push_back(s);
+                                    return true;
+                                  },
+                                  &summary);
+    EXPECT_FALSE(ok);
+    EXPECT_EQ(summary.status, Status::kDeadPoint) << FormatSummary(summary);
+    EXPECT_EQ(summary.event, Event::kDeadPoint);
+    EXPECT_LT(summary.t_end, 10.0);
+    ASSERT_GE(samples.size(), 2u);
+    for (size_t k = 0; k + 1 < samples.size(); ++k) {
+      EXPECT_TRUE(samples[k].S.allFinite() && samples[k].Sd.allFinite()) << "t = " << samples[k].t;
+      EXPECT_LT(samples[k].t, summary.t_end);
+    }
+    EXPECT_EQ(samples.back().t, summary.t_end);
+    EXPECT_LT(samples.back().rcond, options.approach_rcond);
+    EXPECT_TRUE(samples.back().S.array().isNaN().all() && samples.back().Sd.array().isNaN().all());
+  }
 }
 
 TEST(TrajectorySensitivity, RefusesInvalidOptionsAndAnUninitializedRun) {
@@ -847,6 +864,121 @@ TEST(AdjointSensitivity, EndsAtADeadPointWithAStatusAndNoGradient) {
   Adj fresh{M::ParamsT<double>()};
   EXPECT_FALSE(fresh.Gradient(0.0, q0, qd0, 1.0, terminal, Adj::Zero, &G, &dG, &summary));
   EXPECT_EQ(summary.status, Status::kInvalidInput);
+}
+
+// The sensitivity runs are systems of the one simulator (issue 46): on two threads at once they
+// give the bytes of one at a time (as the free, driven and excess-coordinate systems do:
+// tests/dynamics/minimal_generated_more_test.cc). The staggered method on the four-bar, the
+// simultaneous one on the five-bar (every step a sample) and an adjoint gradient of the
+// four-bar; the oracle each run alone on this thread first, every double compared with memcmp.
+using Numbers = std::vector<double>;
+template <class Derived>
+void Append(const Eigen::MatrixBase<Derived>& m, Numbers* out) {
+  for (Eigen::Index j = 0; j < m.cols(); ++j)
+    for (Eigen::Index i = 0; i < m.rows(); ++i) out->push_back(m(i, j));
+}
+
+template <class M>
+Numbers SensitivityRun(SensitivityMethod method, const Eigen::Matrix<double, M::kNq, 1>& q0,
+                       const Eigen::Matrix<double, M::kNq, 1>& qd0, double t_end, double dt) {
+  SensitivityOptions o;
+  o.integrator.rtol = 1e-10;
+  o.integrator.atol = 1e-12;
+  o.sample_dt = dt;
+  o.method = method;
+  TrajectorySensitivity<M> sens(typename M::template ParamsT<double>(), o);
+  Numbers out;
+  if (!sens.Initialize(q0)) return out;
+  SensitivitySummary summary;
+  sens.Simulate(0.0, q0, qd0, t_end,
+                [&](const SensitivitySample<M>& s) {
+                  out.insert(out.end(), {s.t, s.rcond, s.det});
+                  Append(s.q, &out);
+                  Append(s.qd, &out);
+                  Append(s.qdd, &out);
+                  Append(s.phi, &out);
+                  Append(s.S, &out);
+                  Append(s.Sd, &out);
+                  return true;
+                },
+                &summary);
+  out.insert(out.end(), {summary.t_end, static_cast<double>(summary.samples),
+                         static_cast<double>(summary.integrator.steps), static_cast<double>(summary.partial_evaluations),
+                         summary.min_rcond_seen, static_cast<double>(summary.status)});
+  return out;
+}
+
+Numbers AdjointRun() {
+  using M = mech::design_fourbar_massive::Model;
+  using Adj = AdjointSensitivity<M>;
+  SensitivityOptions o;
+  o.integrator.rtol = 1e-10;
+  o.integrator.atol = 1e-12;
+  Adj adjoint(M::ParamsT<double>(), o);
+  Numbers out;
+  const Eigen::Matrix<double, 1, 1> q0(M_PI / 2), qd0(1.5);
+  if (!adjoint.Initialize(q0)) return out;
+  auto terminal = [](double, const Adj::VecQ& q, const Adj::VecQ&, Adj::Value* v) {
+    *v = Adj::Value();
+    v->v = q(0) * q(0);
+    v->d_q(0) = 2 * q(0);
+    return true;
+  };
+  double G = 0;
+  Adj::RowP dG;
+  AdjointSummary summary;
+  adjoint.Gradient(0.0, q0, qd0, 2.0, terminal, Adj::Zero, &G, &dG, &summary);
+  out.push_back(G);
+  Append(dG, &out);
+  out.insert(out.end(), {summary.t_end, static_cast<double>(summary.steps), static_cast<double>(summary.status)});
+  return out;
+}
+
+TEST(TrajectorySensitivity, RunsOnTwoThreadsGiveTheBytesOfOneAtATime) {
+  using F = mech::design_fourbar_massive::Model;
+  using V = mech::design_fivebar_massive::Model;
+  using Job = std::function<Numbers()>;
+  const std::vector<Job> jobs = {
+      [] {
+        return SensitivityRun<F>(SensitivityMethod::kStaggered, Eigen::Matrix<double, 1, 1>(M_PI / 2),
+                                 Eigen::Matrix<double, 1, 1>(1.5), 2.0, 0.02);
+      },
+      [] {
+        return SensitivityRun<V>(SensitivityMethod::kSimultaneous, Eigen::Vector2d(M_PI / 2, M_PI / 2),
+                                 Eigen::Vector2d(0.3, -0.2), 1.0, 0);
+      },
+      AdjointRun};
+  std::vector<Numbers> one_at_a_time;
+  for (const Job& job : jobs) one_at_a_time.push_back(job());
+  for (size_t k = 0; k < jobs.size(); ++k) {
+    ASSERT_GT(one_at_a_time[k].size(), k == 2 ? 6u : 1000u) << "job " << k;
+    EXPECT_EQ(one_at_a_time[k].back(), static_cast<double>(Status::kSuccess)) << "job " << k;
+  }
+  constexpr int kRounds = 4;
+  std::vector<std::vector<Numbers>> at_once(2);
+  std::atomic<int> ready{0};
+  auto worker = [&](std::vector<size_t> mine, size_t slot) {
+    ready.fetch_add(1);
+    while (ready.load() < 2) std::this_thread::yield();
+    for (int round = 0; round < kRounds; ++round)
+      for (size_t k : mine) at_once[slot].push_back(jobs[k]());
+  };
+  const std::vector<size_t> on_a = {0, 1, 2}, on_b = {2, 0, 1};
+  std::thread a(worker, on_a, 0);
+  std::thread b(worker, on_b, 1);
+  a.join();
+  b.join();
+  for (size_t slot = 0; slot < 2; ++slot) {
+    const std::vector<size_t>& order = slot == 0 ? on_a : on_b;
+    ASSERT_EQ(at_once[slot].size(), kRounds * order.size());
+    for (size_t r = 0; r < at_once[slot].size(); ++r) {
+      const Numbers& expected = one_at_a_time[order[r % order.size()]];
+      const Numbers& got = at_once[slot][r];
+      EXPECT_TRUE(got.size() == expected.size() &&
+                  std::memcmp(got.data(), expected.data(), got.size() * sizeof(double)) == 0)
+          << "thread " << slot << ", run " << r;
+    }
+  }
 }
 
 }  // namespace

@@ -228,30 +228,39 @@ class AdjointSensitivity {
     typename Forward::NodeKeep keep[kNodes];
   };
 
-  /// The forward run of the state alone, each accepted step's nodes kept in steps_; the
-  /// summary's integrator, t_end, min_rcond_seen and steps filled.
+  /// The forward run's per-step work (StaggeredSystem's OnStep): the step's nodes kept.
+  struct Keep {
+    AdjointSensitivity* self;
+    bool operator()(double ta, double tb, const StateX* x, typename Forward::SampleT*) {
+      StepRecord record;
+      record.ta = ta;
+      record.tb = tb;
+      for (int j = 0; j < kNodes; ++j) record.x[j] = x[j];
+      self->steps_.push_back(record);
+      return true;
+    }
+  };
+
+  /// The forward run of the state alone by the event loop (the staggered method's system,
+  /// internal::StaggeredSystem, no sample grid), each accepted step's nodes kept in steps_;
+  /// the summary's integrator, t_end, min_rcond_seen and steps filled.
   Status RecordRun(double t0, const VecQ& q0, const VecQ& qd0, double t_end, AdjointSummary* summary,
                    const char** message) {
     forward_.BeginRun();
     steps_.clear();
+    Keep keep{this};
+    const StateX x0 = forward_.StateOf(q0, qd0);
+    internal::StaggeredSystem<Forward, Keep> system(&forward_, t0, x0, keep);
     SensitivitySummary run;
-    const Status status = forward_.RunState(
-        t0, q0, qd0, t_end,
-        [&](double ta, double tb, const StateX* x, bool) {
-          StepRecord record;
-          record.ta = ta;
-          record.tb = tb;
-          for (int j = 0; j < kNodes; ++j) record.x[j] = x[j];
-          steps_.push_back(record);
-          return Status::kNotRun;
-        },
-        &run, message);
+    auto observer = [](const typename Forward::SampleT&) { return true; };
+    forward_.RunSystem(&system, t0, x0, t_end, true, observer, &run);
+    *message = run.message;
     summary->integrator = run.integrator;
     summary->t_end = run.t_end;
     summary->min_rcond_seen = run.min_rcond_seen;
     summary->steps = static_cast<int>(steps_.size());
-    if (status != Status::kSuccess || steps_.empty())
-      return status == Status::kSuccess ? Status::kIntegratorFailed : status;
+    if (run.status != Status::kSuccess || steps_.empty())
+      return run.status == Status::kSuccess ? Status::kIntegratorFailed : run.status;
     forward_.partial_evaluations_ = 0;  // (the backward run's are counted)
     return Status::kSuccess;
   }

@@ -55,12 +55,16 @@
  *  - kSimultaneous: y = (q, qd, vec S, vec Sd) through Method, the error control on every
  *    component (IntegratorOptions' rtol and atol on S and Sd too: about 1.5x the steps).
  *
- * The positions are solved at every stage by the generated position solver from the last
+ * Both methods are systems of the one event loop (dynamics/sensitivity_system.h,
+ * simulator.h), as the free simulation is: its steps, samples and dead-point witness. The
+ * positions are solved at every stage by the generated position solver from the last
  * accepted configuration's predictor, as the free simulation (dynamics/forward.h) does; a
- * configuration whose 1/cond_1(Phi_phi) falls below SensitivityOptions::min_rcond, or that
- * approaches a singular one step after step (approach_rcond, approach_steps), ends the run
- * with Status::kDeadPoint at the accepted step where it was seen (near a dead point dq/dp
- * grows like 1/sigma_min(Phi_phi): a status, never a huge number returned as success).
+ * configuration whose 1/cond_1(Phi_phi) falls below SensitivityOptions::min_rcond (or det
+ * Phi_phi changes sign), located on the dense output, or that approaches a singular one step
+ * after step (approach_rcond, approach_steps), ends the run with Status::kDeadPoint and
+ * Event::kDeadPoint; the sample there is handed out with S and Sd withheld (NaN: near a dead
+ * point dq/dp grows like 1/sigma_min(Phi_phi), a status, never a huge number returned as
+ * success).
  *
  * Not here (the model's loads only, smooth): Coulomb friction with stick and slip (a
  * non-differentiable mode change; its friction loads are zero here), the restarts at switching
@@ -93,6 +97,7 @@
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/integrators.h"
 #include "mechgen/dynamics/position_tracker.h"
+#include "mechgen/dynamics/sensitivity_system.h"
 #include "mechgen/dynamics/simulator.h"
 
 namespace mechgen::dynamics {
@@ -119,9 +124,9 @@ struct SensitivityOptions {
   /// Samples every sample_dt from t0 (and at the end); 0: at every accepted step.
   double sample_dt = 0;
   /// A run whose sample grid would hand out more samples than this is refused.
-  int max_samples = 100000000;
+  int max_samples = kMaxSimulationSamples;
   /// Newton blocks of M::Solve: iterations and tolerance (0: the generated default).
-  int max_solver_iterations = 20;
+  int max_solver_iterations = kMaxSolverIterations;
   double solver_tolerance = 0;
   /// f_q and f_qd by Jets of the generated EvalCoefficients and EvalDynamics even where the model
   /// has EvalDynamicsJacobian (a second method, for checks; slower).
@@ -321,10 +326,12 @@ struct SensitivitySample {
   MatQP S = NaNs<MatQP>();
   MatQP Sd = S;
   double rcond = 1;  ///< 1/cond_1(Phi_phi) (1 for kNphi = 0)
+  double det = 1;    ///< det Phi_phi (1 for kNphi = 0)
 };
 
 struct SensitivitySummary {
   Status status = Status::kNotRun;
+  Event event = Event::kNone;  ///< the witness that ended the run (a dead point), if one did
   IntegratorSummary integrator;
   double t_end = std::numeric_limits<double>::quiet_NaN();  ///< where the run ended
   int samples = 0;
@@ -733,8 +740,14 @@ class TrajectorySensitivity {
       if (!internal::SolveInertia<k>(Eigen::Matrix<double, k, k>(I), Eigen::Matrix<double, k, 1>(f), &qdd_k,
                                      I_inv != nullptr ? &I_inv_k : nullptr))
         return false;  // (nothing read after a failure: qdd and I_inv left as they were)
-      *qdd = qdd_k;
-      if (I_inv != nullptr) *I_inv = I_inv_k;
+      // Entry by entry (the same values): Eigen's assignment of a k x k into the bounded
+      // matrix keeps a two-double packet path that GCC 12 flags (-Warray-bounds) for k = 1.
+      qdd->resize(k);
+      ::mechgen::internal::CopyEntries(qdd_k.data(), k, qdd->data());
+      if (I_inv != nullptr) {
+        I_inv->resize(k, k);
+        ::mechgen::internal::CopyEntries(I_inv_k.data(), k * k, I_inv->data());
+      }
       return true;
     } else {
       (void)I, (void)f, (void)qdd, (void)I_inv;
@@ -897,216 +910,113 @@ class TrajectorySensitivity {
  private:
   template <class, template <int> class, int>
   friend class AdjointSensitivity;
+  template <class>
+  friend class internal::SensitivitySystemBase;
+  template <class, class>
+  friend class internal::StaggeredSystem;
+  template <class>
+  friend class internal::SimultaneousSystem;
 
-  static const char* MessageOf(Status e) {
-    return e == Status::kDeadPoint        ? "1/cond(Phi_phi) fell below min_rcond: a dead point"
-           : e == Status::kPositionFailed ? "the positions or the inertia did not evaluate at a sample"
-                                          : "";
+  /// The event loop's settings of a run (min_rcond, the approach, the sample grid; with
+  /// steps_end_at_samples, the staggered method's, every sample a step's end).
+  internal::EventSettings Events(bool steps_end_at_samples) const {
+    internal::EventSettings events;
+    events.min_rcond = options_.min_rcond;
+    events.approach_rcond = options_.approach_rcond;
+    events.approach_steps = options_.approach_steps;
+    events.sample_dt = options_.sample_dt;
+    events.max_samples = options_.max_samples;
+    events.steps_end_at_samples = steps_end_at_samples;
+    return events;
   }
 
-  /// The staggered method: the state's run (RunState) and the collocation over each step.
+  /// The event loop's run of a system from (t0, y0), its summary written into *summary.
+  template <class System, class Observer>
+  bool RunSystem(System* system, double t0, const typename System::State& y0, double t_end, bool steps_end_at_samples,
+                 Observer& observer, SensitivitySummary* summary) {
+    internal::SensitivityLoopSummary<SensitivitySummary> run;
+    run.min_rcond_seen = summary->min_rcond_seen;
+    NoUserEvent none;
+    internal::EventLoop::Run(system, Events(steps_end_at_samples), t0, y0, t_end, observer, none, &run,
+                             static_cast<SampleT*>(nullptr));
+    *summary = run;
+    if (summary->status == Status::kPositionFailed && system->failure() != Status::kNotRun) {
+      summary->status = system->failure();  // (why the accepted step failed: the system's word)
+      summary->message = system->failure_message();
+    }
+    summary->partial_evaluations = partial_evaluations_;
+    return summary->IsSolutionUsable();
+  }
+
+  /// The staggered method's per-step work (StaggeredSystem's OnStep): the partials at the
+  /// step's nodes (the first the last step's end), then S and Sd over the step by collocation
+  /// into the sample at its end.
+  struct Collocate {
+    explicit Collocate(TrajectorySensitivity* s) : self(s) {}
+    TrajectorySensitivity* self;
+    internal::StaggeredSystem<TrajectorySensitivity, Collocate>* system = nullptr;
+    Partial n[kNodes];  ///< n[kNodes - 1]: at the last step's end
+    MatQP S, Sd;
+    bool operator()(double ta, double tb, const StateX* x, SampleT* sample) {
+      const int nq = self->nq_;
+      n[0] = n[kNodes - 1];
+      for (int j = 1; j < kNodes; ++j) {
+        const double t = j == kNodes - 1 ? tb : ta + self->lob_.c[j] * (tb - ta);
+        if (!self->Partials(t, x[j].template head<kNq>(nq), x[j].template segment<kNq>(nq, nq), j == kNodes - 1,
+                            &n[j]))
+          return system->FailStep(self->last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed,
+                                  "the positions or the inertia did not evaluate at a collocation node");
+      }
+      if (!self->CollocationStep(tb - ta, n, &S, &Sd))
+        return system->FailStep(Status::kIntegratorFailed, "the sensitivities' collocation step is not finite");
+      sample->qdd = n[kNodes - 1].qdd;
+      sample->S = S;
+      sample->Sd = Sd;
+      return true;
+    }
+  };
+
+  /// The staggered method: the state's run by the event loop (StaggeredSystem), the
+  /// collocation over each accepted step.
   template <class Observer>
   bool SimulateStaggered(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer& observer,
                          SensitivitySummary* summary) {
-    Partial n[kNodes];
-    MatQP S = internal::ZeroOf<MatQP>(nq_, np_), Sd = S;
-    SampleT sample;
-    auto emit = [&](const Partial& at) {
-      sample.t = at.t;
-      sample.q = at.q;
-      sample.qd = at.qd;
-      sample.qdd = at.qdd;
-      sample.phi = at.phi;
-      sample.rcond = at.rcond;
-      summary->min_rcond_seen = std::min(summary->min_rcond_seen, at.rcond);
-      if (Calls::Nphi(model_) > 0 && at.rcond < options_.min_rcond) return Status::kDeadPoint;
-      sample.S = S;
-      sample.Sd = Sd;
-      ++summary->samples;
-      return observer(static_cast<const SampleT&>(sample)) ? Status::kNotRun : Status::kStoppedByObserver;
-    };
-    auto finish = [&](Status status, const char* message) {
-      summary->status = status;
-      summary->message = message;
+    Collocate collocate(this);
+    collocate.S = internal::ZeroOf<MatQP>(nq_, np_);
+    collocate.Sd = collocate.S;
+    if (!Partials(t0, q0, qd0, true, &collocate.n[kNodes - 1])) {  // (the first step's first node)
+      summary->t_end = t0;
+      summary->status = last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed;
+      summary->message = "the positions or the inertia did not evaluate at the initial state";
       summary->position_failures = position_failures_;
       summary->partial_evaluations = partial_evaluations_;
-      return summary->IsSolutionUsable();
-    };
-    Status e = Partials(t0, q0, qd0, true, &n[kNodes - 1])
-                   ? emit(n[kNodes - 1])
-                   : (last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed);
-    if (e != Status::kNotRun) {
-      summary->t_end = t0;
-      return finish(e, MessageOf(e));
+      return false;
     }
-    const char* message = "";
-    e = RunState(
-        t0, q0, qd0, t_end,
-        [&](double ta, double tb, const StateX* x, bool at_sample) {
-          const double h = tb - ta;
-          n[0] = n[kNodes - 1];
-          for (int j = 1; j < kNodes; ++j) {
-            const double t = j == kNodes - 1 ? tb : ta + lob_.c[j] * h;
-            if (!Partials(t, x[j].template head<kNq>(nq_), x[j].template segment<kNq>(nq_, nq_), j == kNodes - 1,
-                          &n[j]))
-              return last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed;
-          }
-          if (!CollocationStep(h, n, &S, &Sd)) return Status::kIntegratorFailed;
-          return at_sample ? emit(n[kNodes - 1]) : Status::kNotRun;
-        },
-        summary, &message);
-    return finish(e, message);
+    internal::StaggeredSystem<TrajectorySensitivity, Collocate> system(this, t0, StateOf(q0, qd0), collocate);
+    collocate.system = &system;
+    return RunSystem(&system, t0, StateOf(q0, qd0), t_end, true, observer, summary);
   }
 
-  /**
-   * \brief The staggered method's run of the state alone: (q, qd) by Method<2 kNq> from
-   * (t0, q0, qd0) to t_end, each step ending at the next sample time (sample_dt > 0), the
-   * predictor anchored at each accepted state and its conditioning watched (dead points);
-   * after each accepted step [ta, tb], on_step(ta, tb, x, at_sample) with x[0..4] the state at
-   * the collocation's nodes (x[0], x[4] the step's ends, the others the dense output), and
-   * at_sample whether tb is a sample time (every step's end when sample_dt = 0, and t_end):
-   * it returns Status::kNotRun to go on, else how the run ends.
-   * \return kSuccess at t_end, else the status (summary->t_end where it ended, *message why).
-   */
-  template <class OnStep>
-  Status RunState(double t0, const VecQ& q0, const VecQ& qd0, double t_end, OnStep&& on_step,
-                  SensitivitySummary* summary, const char** message) {
-    StateRhs f{this};
-    StateX x[kNodes];
-    if constexpr (kView) x[kNodes - 1].resize(2 * nq_);
-    x[kNodes - 1].template head<kNq>(nq_) = q0;  // (not the comma initializer: GCC 12 -Warray-bounds on 1 x 1)
-    x[kNodes - 1].template segment<kNq>(nq_, nq_) = qd0;
-    IntegratorStatus s = state_integrator_.Start(f, t0, x[kNodes - 1], t_end);
-    auto end = [&](Status status, double t, const char* text) {
-      summary->t_end = t;
-      summary->integrator = state_integrator_.summary();
-      summary->integrator.status = s;
-      *message = text;
-      return status;
-    };
-    if (s != IntegratorStatus::kRunning) return end(Status::kInvalidInput, t0, "the initial state does not evaluate");
-    long k = 1;  // the next sample is t0 + k sample_dt (sample_dt > 0)
-    double t_prev = t0;
-    while (s == IntegratorStatus::kRunning) {
-      const double t_stop = options_.sample_dt > 0 ? std::min(t_end, t0 + k * options_.sample_dt) : t_end;
-      s = state_integrator_.Step(f, t_stop);
-      if (s != IntegratorStatus::kRunning && s != IntegratorStatus::kSuccess) {
-        const bool dead = last_not_assemblable_ || summary->min_rcond_seen < 1e3 * options_.min_rcond;
-        return end(dead ? Status::kDeadPoint : Status::kIntegratorFailed, t_prev,
-                   dead ? "the integrator failed near a dead point (the loop does not close or "
-                          "Phi_phi is near singular)"
-                        : "the integrator failed");
-      }
-      const double t = state_integrator_.t();
-      x[0] = x[kNodes - 1];
-      x[kNodes - 1] = state_integrator_.y();
-      if (!Anchor(x[kNodes - 1].template head<kNq>(nq_), summary))
-        return end(Status::kDeadPoint, t,
-                   approaching_ >= options_.approach_steps
-                       ? "a singular configuration approached: 1/cond(Phi_phi) below approach_rcond and "
-                         "falling for approach_steps steps"
-                       : MessageOf(Status::kDeadPoint));
-      for (int j = 1; j + 1 < kNodes; ++j)
-        if (!state_integrator_.Dense(f, t_prev + lob_.c[j] * (t - t_prev), &x[j]))
-          return end(last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed, t_prev,
-                     "the state's dense output did not evaluate");
-      bool at_sample = true;
-      if (options_.sample_dt > 0) {
-        at_sample = t == t_stop || s == IntegratorStatus::kSuccess;
-        if (t == t_stop) ++k;
-      }
-      const Status e = on_step(t_prev, t, static_cast<const StateX*>(x), at_sample);
-      if (e != Status::kNotRun) return end(e, t, MessageOf(e));
-      t_prev = t;
-    }
-    return end(Status::kSuccess, t_end, "");
-  }
-
-  /// The whole state (q, qd, S, Sd) through Method<kN> (kSimultaneous).
+  /// The whole state (q, qd, S, Sd) through Method<kN> (kSimultaneous) by the event loop
+  /// (SimultaneousSystem).
   template <class Observer>
   bool SimulateSimultaneous(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer& observer,
                             SensitivitySummary* summary) {
     State y0 = State::Zero();
     y0.template head<kNq>() = q0;
     y0.template segment<kNq>(kNq) = qd0;
-    IntegratorStatus s = integrator_.Start(*this, t0, y0, t_end);
-    auto finish = [&](Status status, const char* message) {
-      summary->status = status;
-      summary->message = message;
-      summary->integrator = integrator_.summary();
-      summary->integrator.status = s;
-      summary->position_failures = position_failures_;
-      summary->partial_evaluations = partial_evaluations_;
-      return summary->IsSolutionUsable();
-    };
-    if (s != IntegratorStatus::kRunning) {
-      summary->t_end = t0;
-      return finish(Status::kInvalidInput, "the initial state does not evaluate");
-    }
-    // A sample at (t, y) to the observer: kNotRun to go on, else how the run ends.
-    SampleT sample;
-    auto emit = [&](double t, const State& y) {
-      const Status e = Emit(t, y, &sample, summary);
-      if (e != Status::kNotRun) return e;
-      return observer(static_cast<const SampleT&>(sample)) ? Status::kNotRun : Status::kStoppedByObserver;
-    };
-    Status e = emit(t0, y0);
-    if (e != Status::kNotRun) {
-      summary->t_end = t0;
-      return finish(e, MessageOf(e));
-    }
-    long k = 1;  // the next sample is t0 + k sample_dt (sample_dt > 0)
-    double t_prev = t0;
-    while (s == IntegratorStatus::kRunning) {
-      s = integrator_.Step(*this);
-      if (s != IntegratorStatus::kRunning && s != IntegratorStatus::kSuccess) {
-        summary->t_end = t_prev;
-        const bool dead = last_not_assemblable_ || summary->min_rcond_seen < 1e3 * options_.min_rcond;
-        return finish(dead ? Status::kDeadPoint : Status::kIntegratorFailed,
-                      dead ? "the integrator failed near a dead point (the loop does not close or "
-                             "Phi_phi is near singular)"
-                           : "the integrator failed");
-      }
-      const double t = integrator_.t();
-      // The accepted state: re-anchor the predictor there and watch its conditioning.
-      if (!Anchor(integrator_.y().template head<kNq>(), summary)) {
-        summary->t_end = t;
-        return finish(Status::kDeadPoint, approaching_ >= options_.approach_steps
-                                             ? "a singular configuration approached: 1/cond(Phi_phi) "
-                                               "below approach_rcond and falling for approach_steps steps"
-                                             : MessageOf(Status::kDeadPoint));
-      }
-      if (options_.sample_dt > 0) {
-        for (double t_k = t0 + k * options_.sample_dt; t_k < t && t_k < t_end; t_k = t0 + k * options_.sample_dt) {
-          State y;
-          e = integrator_.Dense(*this, t_k, &y) ? emit(t_k, y) : Status::kPositionFailed;
-          if (e != Status::kNotRun) {
-            summary->t_end = t_k;
-            return finish(e, MessageOf(e));
-          }
-          ++k;
-        }
-        const bool on_grid = t0 + k * options_.sample_dt == t;
-        if (on_grid) ++k;
-        e = (s == IntegratorStatus::kSuccess || on_grid) ? emit(t, integrator_.y()) : Status::kNotRun;
-      } else {
-        e = emit(t, integrator_.y());
-      }
-      if (e != Status::kNotRun) {
-        summary->t_end = t;
-        return finish(e, MessageOf(e));
-      }
-      t_prev = t;
-    }
-    summary->t_end = t_end;
-    return finish(Status::kSuccess, "");
+    internal::SimultaneousSystem<TrajectorySensitivity> system(this);
+    return RunSystem(&system, t0, y0, t_end, false, observer, summary);
   }
 
-  /// The state's right-hand side for StateIntegrator.
-  struct StateRhs {
-    TrajectorySensitivity* self;
-    bool operator()(double t, const StateX& x, StateX* dx) { return self->StateDerivative(t, x, dx); }
-  };
+  /// (q, qd) as the staggered method's state.
+  StateX StateOf(const VecQ& q, const VecQ& qd) const {
+    StateX x;
+    if constexpr (kView) x.resize(2 * nq_);
+    x.template head<kNq>(nq_) = q;  // (not the comma initializer: GCC 12 -Warray-bounds on 1 x 1)
+    x.template segment<kNq>(nq_, nq_) = qd;
+    return x;
+  }
 
   template <class C>
   static auto PhiPhi(const C& c) {
@@ -1136,8 +1046,6 @@ class TrajectorySensitivity {
   void BeginRun() {
     position_failures_ = 0;
     partial_evaluations_ = 0;
-    approaching_ = 0;
-    last_rcond_ = 1;
     last_not_assemblable_ = false;
     anchor_valid_ = false;
     tracker_.SetReference(initial_.q, initial_.phi, initial_.K, initial_.det);
@@ -1149,44 +1057,46 @@ class TrajectorySensitivity {
     tracker_.SetReference(n.q, n.phi, n.K);
   }
 
-  /// Makes the accepted configuration q the predictor's reference; false at a dead point.
-  bool Anchor(const VecQ& q, SensitivitySummary* summary) {
-    VecPhi phi;
-    Coefficients c;
-    if (!Configuration(q, &phi, &c)) return false;
-    double rcond = 1, det = 1;
-    internal::ConditioningOf(PhiPhi(c), &rcond, &det);
-    summary->min_rcond_seen = std::min(summary->min_rcond_seen, rcond);
-    if (Calls::Nphi(model_) > 0 && (rcond < options_.min_rcond || (det > 0) != (tracker_.ref_det() > 0))) return false;
-    approaching_ = rcond < options_.approach_rcond && rcond < last_rcond_ ? approaching_ + 1 : 0;
-    last_rcond_ = rcond;
-    if (approaching_ >= options_.approach_steps) return false;
+  /// Makes the accepted configuration (q, phi, c; its 1/cond and det Phi_phi) the predictor's
+  /// reference, read by Partials() there.
+  void SetAnchor(const VecQ& q, const VecPhi& phi, const Coefficients& c, double rcond, double det) {
     tracker_.SetReference(q, phi, c.K, det);
     Calls::CopyCoefficients(model_, c, &anchor_c_);
     anchor_trig_ = *tracker_.trig();
     anchor_rcond_ = rcond;
     anchor_valid_ = true;
+  }
+
+  /// The state's sample at (t, q, qd) (S and Sd left as they are): its positions from the
+  /// predictor, qdd, 1/cond and det Phi_phi. \return false where they do not evaluate.
+  bool StateSample(double t, const VecQ& q, const VecQ& qd, SampleT* sample) {
+    Coefficients c;
+    if (!Configuration(q, &sample->phi, &c)) return false;
+    Dyn d;
+    internal::CallDynamics(model_, p_, q, sample->phi, qd, t, c, &d, tracker_.trig());
+    if (!SolveInertia(d.I, VecQ(d.Q - d.h), &sample->qdd, nullptr)) return false;
+    sample->t = t;
+    sample->q = q;
+    sample->qd = qd;
+    internal::ConditioningOf(PhiPhi(c), &sample->rcond, &sample->det);
     return true;
   }
 
-  /// The sample at (t, y): kNotRun when it evaluates, else kDeadPoint or kPositionFailed.
-  Status Emit(double t, const State& y, SampleT* sample, SensitivitySummary* summary) {
+  /// The simultaneous method's sample at (t, y): qdd from the derivative, the positions and
+  /// their conditioning, S and Sd read from y. \return false where they do not evaluate.
+  bool FullSample(double t, const State& y, SampleT* sample) {
     State dy;
-    if (!Derivative(t, y, &dy)) return last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed;
+    if (!Derivative(t, y, &dy)) return false;
     sample->t = t;
     sample->q = y.template head<kNq>();
     sample->qd = y.template segment<kNq>(kNq);
     sample->qdd = dy.template segment<kNq>(kNq);
     Coefficients c;
-    if (!Configuration(sample->q, &sample->phi, &c)) return Status::kPositionFailed;
-    double det = 1;
-    internal::ConditioningOf(PhiPhi(c), &sample->rcond, &det);
-    summary->min_rcond_seen = std::min(summary->min_rcond_seen, sample->rcond);
-    if (Calls::Nphi(model_) > 0 && sample->rcond < options_.min_rcond) return Status::kDeadPoint;
+    if (!Configuration(sample->q, &sample->phi, &c)) return false;
+    internal::ConditioningOf(PhiPhi(c), &sample->rcond, &sample->det);
     sample->S = Eigen::Map<const MatQP>(y.data() + 2 * kNq);
     sample->Sd = Eigen::Map<const MatQP>(y.data() + 2 * kNq + kNq * kNp);
-    ++summary->samples;
-    return Status::kNotRun;
+    return true;
   }
 
   struct Reference {
@@ -1244,8 +1154,6 @@ class TrajectorySensitivity {
   bool last_not_assemblable_ = false;
   int position_failures_ = 0;
   int partial_evaluations_ = 0;
-  int approaching_ = 0;  ///< accepted steps in a row with 1/cond < approach_rcond and falling
-  double last_rcond_ = 1;
 };
 
 }  // namespace mechgen::dynamics

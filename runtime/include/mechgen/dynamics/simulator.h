@@ -1,8 +1,10 @@
 /**
  * \file dynamics/simulator.h
  * The one event loop of the runtime's simulations: the free (MinimalDynamics, forward.h),
- * driven (PrescribedDynamics, prescribed.h) and engine (engine::GasDriven, a MinimalDynamics
- * with a load) simulations configure it; it drives their integrator from t0 to t_end.
+ * driven (PrescribedDynamics, prescribed.h), engine (engine::GasDriven, a MinimalDynamics
+ * with a load) and excess-coordinate (excess.h) simulations and the trajectory sensitivities'
+ * runs (sensitivity_system.h: staggered, simultaneous, the adjoint's forward run) configure it;
+ * it drives their integrator from t0 to t_end.
  *
  * The loop runs a system (dynamics/system.h: the hooks a simulation declares, its state, its
  * derivative, its accepted step) and watches its witness functions (dynamics/witness/: each a
@@ -21,7 +23,8 @@
  *    the cycle-mean speeds of the last N cycles settled; Status::kStoppedByEvent,
  *    Event::kSteadyState after the sample that shows it (the observer sees that sample).
  * The earliest event of a step wins. Samples at t0 + k sample_dt (0: every accepted step, and
- * always at t_end) come from the dense output; an observer gets each and may stop the run.
+ * always at t_end) come from the dense output (or, with steps_end_at_samples, are steps' ends);
+ * an observer gets each and may stop the run.
  * Energy projection (free simulation only) after each step keeps T + V - W on its initial
  * value. When the integrator gives up, the figures of the last configuration say why (a dead
  * point, a singular inertia, the position solver, the integrator).
@@ -152,6 +155,10 @@ struct EventSettings {
   double event_tolerance = kEventTolerance;
   double sample_dt = 0;
   int max_samples = kMaxSimulationSamples;
+  /// Every sample time a step's end (sample_dt > 0): the steps stop there, so that no sample
+  /// comes from the dense output between steps (the staggered trajectory sensitivities', whose
+  /// S and Sd are known at the steps' ends only).
+  bool steps_end_at_samples = false;
   bool stop_at_speed_zero = false;
   double approach_rcond = kApproachRcond;
   int approach_steps = 0;  ///< 0: the approach to a singular configuration is not watched
@@ -384,7 +391,7 @@ class EventLoopRun {
       summary_->message = "the initial state does not assemble (or its inertia is singular)";
       return Finish(Status::kInvalidInput, t0_);
     }
-    E0_ = s0.E;
+    E0_ = P::Balance(s0);  // (the integrals of power start at 0: T + V there)
     summary_->min_rcond_seen = s0.rcond;
     if (s0.rcond < o_.min_rcond) {
       summary_->event = Event::kDeadPoint;
@@ -409,6 +416,8 @@ class EventLoopRun {
   /// One accepted step of the integrator and all that follows it.
   Flow Step() {
     double t_stop = switch_pending_ ? t_switch_a_ : std::numeric_limits<double>::quiet_NaN();
+    if (o_.steps_end_at_samples && o_.sample_dt > 0 && next_sample_ < t_end_)
+      t_stop = std::isnan(t_stop) ? next_sample_ : std::min(t_stop, next_sample_);
     if constexpr (HasCoulombHooks<P>::value) {
       if (sim_->CoulombActive() && sim_->Stuck()) {
         // Stuck: the breakaway is looked for at each step's end (see EventSettings::stick_step).
@@ -823,7 +832,7 @@ class EventLoopRun {
   witness::UserWitness<UserEvent> user_;
   SteadyStateDetector steady_;
   int c_ = 0;  ///< the steady state's coordinate
-  // The samples: the energy at t0, the grid, the observer's stop.
+  // The samples: the energy balance at t0 (P::Balance), the grid, the observer's stop.
   double E0_ = 0;
   Status stop_ = Status::kStoppedByObserver;
   bool first_ = true;

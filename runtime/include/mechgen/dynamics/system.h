@@ -5,7 +5,9 @@
  * are Drake's System (state, derivatives, discrete updates at a step, witness functions) and
  * SUNDIALS CVODES (the right-hand side, the root functions g_i(t, y) located on the
  * interpolant). The free motion (MinimalDynamics, forward.h; the engine's gas-driven run is one
- * with a load) and the driven motion (PrescribedDynamics, prescribed.h) are such systems.
+ * with a load), the driven motion (PrescribedDynamics, prescribed.h), the excess-coordinate
+ * motion (ExcessDynamics, excess.h) and the trajectory sensitivities' runs (staggered,
+ * simultaneous and the adjoint's forward run: sensitivity_system.h) are such systems.
  *
  * A system P is a class (compile-time duck typing, C++17: the loop is a template on P, one
  * instantiation per system and model, nothing virtual) that declares
@@ -21,7 +23,7 @@
  *   bool Derivative(t, y, State* dy)        the right-hand side (false: not evaluated there).
  *
  * A configuration, and what happens at an accepted step
- *   SampleT                                 one evaluated configuration: t, q, qd, phi, E,
+ *   SampleT                                 one evaluated configuration: t, q, qd, phi,
  *                                           rcond, det (the fields the witnesses read),
  *   bool Evaluate(t, y, SampleT*)           one configuration; updates nothing,
  *   bool Accept(t, y, SampleT*)             the accepted step's configuration (from the last

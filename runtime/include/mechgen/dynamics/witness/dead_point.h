@@ -36,10 +36,17 @@ class DeadPointWitness {
 
   /// The step prev -> cur: kCrossed (then *ga, *gb the bracket of Value), kApproached (the
   /// approach_steps-th falling step below approach_rcond in a row), or kNone.
+  /// Whether a step from a configuration of det Phi_phi prev_det to one of (rcond, det)
+  /// crosses a singular one: the rule of Check(), for a system that must know at its accepted
+  /// step whether the witness will end the run there (the trajectory sensitivities').
+  static bool Crosses(double min_rcond, double prev_det, double rcond, double det) {
+    return rcond < min_rcond || (prev_det > 0) != (det > 0);
+  }
+
   template <class Sample>
   Found Check(const Sample& prev, const Sample& cur, double* ga, double* gb) {
     const bool sign_change = (prev.det > 0) != (cur.det > 0);
-    if (cur.rcond < min_rcond_ || sign_change) {
+    if (Crosses(min_rcond_, prev.det, cur.rcond, cur.det)) {
       prev_det_positive_ = prev.det > 0;
       *ga = prev.rcond - min_rcond_;
       *gb = (sign_change ? -cur.rcond : cur.rcond) - min_rcond_;
