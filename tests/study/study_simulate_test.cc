@@ -3,6 +3,11 @@
 // pendulum, the coupler point against the sweep, and their errors.
 #include "study_test_common.h"
 
+#ifdef MECHGEN_STUDY_TEST_PENDULUM
+// The pendulum's study, once for two files (extern in study_test_common.h).
+template class mechgen::study::Study<mech::pendulum_spring::Model>;
+#endif
+
 namespace {
 
 using namespace mechgen_study_test;  // NOLINT (the tests' shared helpers)

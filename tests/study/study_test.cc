@@ -7,6 +7,9 @@
 // (simulation, positions), study_engine_test.cc; the four compile in parallel.)
 #include "study_test_common.h"
 
+// The four-bar's study, once for the four files (extern in study_test_common.h).
+template class mechgen::study::Study<mech::fourbar::Model>;
+
 namespace {
 
 using namespace mechgen_study_test;  // NOLINT (the tests' shared helpers)

@@ -58,6 +58,13 @@ namespace mech::fourbar_loaded {
 const mechgen::ModelView& View();
 }
 
+// The study of the four-bar (every test file's) and of the pendulum (two files') compiled once,
+// in study_test.cc and study_simulate_test.cc; the view's in the library (view_analysis.h).
+extern template class mechgen::study::Study<mech::fourbar::Model>;
+#ifdef MECHGEN_STUDY_TEST_PENDULUM
+extern template class mechgen::study::Study<mech::pendulum_spring::Model>;
+#endif
+
 namespace mechgen_study_test {
 
 namespace study = mechgen::study;

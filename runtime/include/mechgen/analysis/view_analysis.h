@@ -67,3 +67,6 @@ extern template std::string Check<ViewModel>(const ViewModel&, const StudyReques
 extern template int Run<ViewModel>(const ViewModel&, const StudyRequest&, const StudyOutputs&, const StudyRanks&);
 
 }  // namespace mechgen::analysis
+
+// The whole study through the view, compiled once (runtime/view/analysis_study.cc).
+extern template class mechgen::study::Study<mechgen::ViewModel>;

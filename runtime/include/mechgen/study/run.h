@@ -205,7 +205,9 @@ class Study {
   static constexpr bool kDesign = run_internal::kDesign<M>;
   static constexpr bool kStaticsDesign = run_internal::kStaticsDesign<M>;
 
-  /// A study of the generated model M (its parameters' defaults the base).
+  /// A study of the generated model M (its parameters' defaults the base). (A template, so
+  /// that the explicit instantiation of Study<ViewModel>, which has no default model, skips it.)
+  template <class X = M, std::enable_if_t<!ModelCalls<X>::kView, int> = 0>
   Study() : model_(), base_(C::DefaultParams(model_)) {}
   /// A study of `model` (a ViewModel; the view must outlive the study).
   explicit Study(const M& model) : model_(model), base_(C::DefaultParams(model_)) {}
@@ -1522,8 +1524,10 @@ class Study {
   int NumSimulationReactions() const {
     if constexpr (kView) {
       return C::KinetoNumReactions(model_);
-    } else {
+    } else if constexpr (run_internal::SimulationOf<M>::kOk) {
       return run_internal::SimulationOf<M>::kNumReactions;
+    } else {
+      return 0;  // (no dynamics: no simulation; the study refuses analysis: simulate)
     }
   }
 
