@@ -682,10 +682,6 @@ void FlatForcesCopied(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
-  Vec<double, Sizes::kNq> velocities_;
-  if (velocities != nullptr) Get(velocities, &velocities_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -695,8 +691,12 @@ void FlatForcesCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<9>(out + kStaticsMembers[6].offset, &out_.R);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   static const Trig<double> trig_{};
   (void)trig;
+  Vec<double, Sizes::kNq> velocities_;
+  if (velocities != nullptr) Get(velocities, &velocities_);
   Model::Forces(p_,
                 q_,
                 phi_,
@@ -722,25 +722,24 @@ void FlatForces(const double* p,
                 const double* trig,
                 const double* velocities) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig) &&
+      InPlace<true, Vec<double, Sizes::kNq>>(velocities)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
     Get(q, &q_);
     Vec<double, Sizes::kNphi> phi_;
     Get(phi, &phi_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
-    Vec<double, Sizes::kNq> velocities_;
-    if (velocities != nullptr) Get(velocities, &velocities_);
     Model::Forces(p_,
                   q_,
                   phi_,
                   *At<Coefficients<double>>(c),
                   At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
+                  At<Vec<double, Sizes::kNumFriction>>(friction),
                   At<Trig<double>>(trig),
-                  velocities != nullptr ? &velocities_ : nullptr);
+                  At<Vec<double, Sizes::kNq>>(velocities));
     return;
   }
   FlatForcesCopied<>(p, q, phi, c, out, friction, trig, velocities);
@@ -765,8 +764,6 @@ void FlatDynamicsCopied(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -779,6 +776,8 @@ void FlatDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[5].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[6].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[7].offset, &out_.P_nc);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -815,6 +814,7 @@ void FlatDynamics(const double* p,
                   const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
       InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
       InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
@@ -824,8 +824,6 @@ void FlatDynamics(const double* p,
     Get(phi, &phi_);
     Vec<double, Sizes::kNq> qd_;
     Get(qd, &qd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Dynamics(p_,
                     q_,
                     phi_,
@@ -833,7 +831,7 @@ void FlatDynamics(const double* p,
                     t,
                     *At<Coefficients<double>>(c),
                     At<Dynamics<double>>(out),
-                    friction != nullptr ? &friction_ : nullptr,
+                    At<Vec<double, Sizes::kNumFriction>>(friction),
                     At<Trig<double>>(trig));
     return;
   }
@@ -862,8 +860,6 @@ void FlatKinetostaticsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -874,6 +870,8 @@ void FlatKinetostaticsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<9>(out + kStaticsMembers[6].offset, &out_.R);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -908,7 +906,9 @@ void FlatKinetostatics(const double* p,
                        const double* friction,
                        const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -919,8 +919,6 @@ void FlatKinetostatics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNq> qdd_;
     Get(qdd, &qdd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Kinetostatics(p_,
                          q_,
                          phi_,
@@ -929,7 +927,7 @@ void FlatKinetostatics(const double* p,
                          t,
                          *At<Coefficients<double>>(c),
                          At<Statics<double>>(out),
-                         friction != nullptr ? &friction_ : nullptr,
+                         At<Vec<double, Sizes::kNumFriction>>(friction),
                          At<Trig<double>>(trig));
     return;
   }
@@ -956,8 +954,6 @@ void FlatExcessDynamicsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNphi> phid_;
   Get(phid, &phid_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Excess<double> out_;
   if (out != nullptr) GetUnlessStored<9>(out + kExcessMembers[0].offset, &out_.M);
   if (out != nullptr) GetUnlessStored<3>(out + kExcessMembers[1].offset, &out_.h);
@@ -967,6 +963,8 @@ void FlatExcessDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<2>(out + kExcessMembers[5].offset, &out_.gamma);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[6].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[7].offset, &out_.V);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Model::ExcessDynamics(p_,
                         q_,
                         phi_,
@@ -994,7 +992,8 @@ void FlatExcessDynamics(const double* p,
                         double t,
                         double* out,
                         const double* friction) {
-  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
+  if (InPlace<kExcessInPlace, Excess<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -1005,8 +1004,6 @@ void FlatExcessDynamics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNphi> phid_;
     Get(phid, &phid_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::ExcessDynamics(p_,
                           q_,
                           phi_,
@@ -1014,7 +1011,7 @@ void FlatExcessDynamics(const double* p,
                           phid_,
                           t,
                           At<Excess<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
+                          At<Vec<double, Sizes::kNumFriction>>(friction));
     return;
   }
   FlatExcessDynamicsCopied<>(p, q, phi, qd, phid, t, out, friction);
@@ -1273,8 +1270,6 @@ void FlatDynamicsDesignCopied(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -1289,6 +1284,8 @@ void FlatDynamicsDesignCopied(const double* p,
   if (out != nullptr) GetUnlessStored<7>(out + kDynamicsDesignMembers[3].offset, &out_.dQ_dp);
   if (out != nullptr) GetUnlessStored<7>(out + kDynamicsDesignMembers[4].offset, &out_.dT_dp);
   if (out != nullptr) GetUnlessStored<7>(out + kDynamicsDesignMembers[5].offset, &out_.dV_dp);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Model::DynamicsDesign(p_,
                         q_,
                         phi_,
@@ -1318,7 +1315,8 @@ void FlatDynamicsDesign(const double* p,
                         const double* friction) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
       InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(dc) &&
-      InPlace<kDynamicsDesignInPlace, DynamicsDesign<double>>(out)) {
+      InPlace<kDynamicsDesignInPlace, DynamicsDesign<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -1327,8 +1325,6 @@ void FlatDynamicsDesign(const double* p,
     Get(phi, &phi_);
     Vec<double, Sizes::kNq> qd_;
     Get(qd, &qd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::DynamicsDesign(p_,
                           q_,
                           phi_,
@@ -1337,7 +1333,7 @@ void FlatDynamicsDesign(const double* p,
                           *At<Coefficients<double>>(c),
                           *At<DesignDerivatives<double>>(dc),
                           At<DynamicsDesign<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
+                          At<Vec<double, Sizes::kNumFriction>>(friction));
     return;
   }
   FlatDynamicsDesignCopied<>(p, q, phi, qd, t, c, dc, out, friction);
@@ -1369,11 +1365,11 @@ void FlatDynamicsDesignProductCopied(const double* p,
   Get(mu, &mu_);
   Vec<double, Sizes::kNumDesign> product_;
   if (product != nullptr) Get(product, &product_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Model::DynamicsDesignProduct(p_,
                                q_,
                                phi_,
@@ -1398,7 +1394,8 @@ void FlatDynamicsDesignProduct(const double* p,
                                const double* mu,
                                double* product,
                                const double* friction) {
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c)) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -1413,8 +1410,6 @@ void FlatDynamicsDesignProduct(const double* p,
     Get(mu, &mu_);
     Vec<double, Sizes::kNumDesign> product_;
     if (product != nullptr) Get(product, &product_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::DynamicsDesignProduct(p_,
                                  q_,
                                  phi_,
@@ -1424,7 +1419,7 @@ void FlatDynamicsDesignProduct(const double* p,
                                  qdd_,
                                  mu_,
                                  product != nullptr ? &product_ : nullptr,
-                                 friction != nullptr ? &friction_ : nullptr);
+                                 At<Vec<double, Sizes::kNumFriction>>(friction));
     if (product != nullptr) Put(product_, product);
     return;
   }
@@ -1547,11 +1542,11 @@ void FlatDynamicsJacobianCopied(const double* p,
   if (dQ_dqd != nullptr) Get(dQ_dqd, &dQ_dqd_);
   Mat<double, Sizes::kNq, Sizes::kNq> dh_dqd_;
   if (dh_dqd != nullptr) Get(dh_dqd, &dh_dqd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Model::DynamicsJacobian(p_,
                           q_,
                           phi_,
@@ -1581,7 +1576,8 @@ void FlatDynamicsJacobian(const double* p,
                           double* dQ_dqd,
                           double* dh_dqd,
                           const double* friction) {
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c)) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -1598,8 +1594,6 @@ void FlatDynamicsJacobian(const double* p,
     if (dQ_dqd != nullptr) Get(dQ_dqd, &dQ_dqd_);
     Mat<double, Sizes::kNq, Sizes::kNq> dh_dqd_;
     if (dh_dqd != nullptr) Get(dh_dqd, &dh_dqd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::DynamicsJacobian(p_,
                             q_,
                             phi_,
@@ -1610,7 +1604,7 @@ void FlatDynamicsJacobian(const double* p,
                             dh_dq != nullptr ? &dh_dq_ : nullptr,
                             dQ_dqd != nullptr ? &dQ_dqd_ : nullptr,
                             dh_dqd != nullptr ? &dh_dqd_ : nullptr,
-                            friction != nullptr ? &friction_ : nullptr);
+                            At<Vec<double, Sizes::kNumFriction>>(friction));
     if (dQ_dq != nullptr) Put(dQ_dq_, dQ_dq);
     if (dh_dq != nullptr) Put(dh_dq_, dh_dq);
     if (dQ_dqd != nullptr) Put(dQ_dqd_, dQ_dqd);

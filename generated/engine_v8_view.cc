@@ -659,10 +659,6 @@ void FlatForcesCopied(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
-  Vec<double, Sizes::kNq> velocities_;
-  if (velocities != nullptr) Get(velocities, &velocities_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -672,8 +668,12 @@ void FlatForcesCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<58>(out + kStaticsMembers[6].offset, &out_.R);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   static const Trig<double> trig_{};
   (void)trig;
+  Vec<double, Sizes::kNq> velocities_;
+  if (velocities != nullptr) Get(velocities, &velocities_);
   Model::Forces(p_,
                 q_,
                 phi_,
@@ -699,25 +699,24 @@ void FlatForces(const double* p,
                 const double* trig,
                 const double* velocities) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig) &&
+      InPlace<true, Vec<double, Sizes::kNq>>(velocities)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
     Get(q, &q_);
     Vec<double, Sizes::kNphi> phi_;
     Get(phi, &phi_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
-    Vec<double, Sizes::kNq> velocities_;
-    if (velocities != nullptr) Get(velocities, &velocities_);
     Model::Forces(p_,
                   q_,
                   phi_,
                   *At<Coefficients<double>>(c),
                   At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
+                  At<Vec<double, Sizes::kNumFriction>>(friction),
                   At<Trig<double>>(trig),
-                  velocities != nullptr ? &velocities_ : nullptr);
+                  At<Vec<double, Sizes::kNq>>(velocities));
     return;
   }
   FlatForcesCopied<>(p, q, phi, c, out, friction, trig, velocities);
@@ -742,8 +741,6 @@ void FlatDynamicsCopied(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -756,6 +753,8 @@ void FlatDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[5].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[6].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[7].offset, &out_.P_nc);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -792,6 +791,7 @@ void FlatDynamics(const double* p,
                   const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
       InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
       InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
@@ -801,8 +801,6 @@ void FlatDynamics(const double* p,
     Get(phi, &phi_);
     Vec<double, Sizes::kNq> qd_;
     Get(qd, &qd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Dynamics(p_,
                     q_,
                     phi_,
@@ -810,7 +808,7 @@ void FlatDynamics(const double* p,
                     t,
                     *At<Coefficients<double>>(c),
                     At<Dynamics<double>>(out),
-                    friction != nullptr ? &friction_ : nullptr,
+                    At<Vec<double, Sizes::kNumFriction>>(friction),
                     At<Trig<double>>(trig));
     return;
   }
@@ -839,8 +837,6 @@ void FlatKinetostaticsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -851,6 +847,8 @@ void FlatKinetostaticsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<58>(out + kStaticsMembers[6].offset, &out_.R);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -885,7 +883,9 @@ void FlatKinetostatics(const double* p,
                        const double* friction,
                        const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -896,8 +896,6 @@ void FlatKinetostatics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNq> qdd_;
     Get(qdd, &qdd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Kinetostatics(p_,
                          q_,
                          phi_,
@@ -906,7 +904,7 @@ void FlatKinetostatics(const double* p,
                          t,
                          *At<Coefficients<double>>(c),
                          At<Statics<double>>(out),
-                         friction != nullptr ? &friction_ : nullptr,
+                         At<Vec<double, Sizes::kNumFriction>>(friction),
                          At<Trig<double>>(trig));
     return;
   }
@@ -933,8 +931,6 @@ void FlatExcessDynamicsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNphi> phid_;
   Get(phid, &phid_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Excess<double> out_;
   if (out != nullptr) GetUnlessStored<289>(out + kExcessMembers[0].offset, &out_.M);
   if (out != nullptr) GetUnlessStored<17>(out + kExcessMembers[1].offset, &out_.h);
@@ -944,6 +940,8 @@ void FlatExcessDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<16>(out + kExcessMembers[5].offset, &out_.gamma);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[6].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[7].offset, &out_.V);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Model::ExcessDynamics(p_,
                         q_,
                         phi_,
@@ -971,7 +969,8 @@ void FlatExcessDynamics(const double* p,
                         double t,
                         double* out,
                         const double* friction) {
-  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
+  if (InPlace<kExcessInPlace, Excess<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -982,8 +981,6 @@ void FlatExcessDynamics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNphi> phid_;
     Get(phid, &phid_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::ExcessDynamics(p_,
                           q_,
                           phi_,
@@ -991,7 +988,7 @@ void FlatExcessDynamics(const double* p,
                           phid_,
                           t,
                           At<Excess<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
+                          At<Vec<double, Sizes::kNumFriction>>(friction));
     return;
   }
   FlatExcessDynamicsCopied<>(p, q, phi, qd, phid, t, out, friction);

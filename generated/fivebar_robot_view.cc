@@ -567,8 +567,6 @@ void FlatForcesCopied(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Statics<double> out_;
@@ -576,6 +574,8 @@ void FlatForcesCopied(const double* p,
   if (out != nullptr) GetUnlessStored<2>(out + kStaticsMembers[1].offset, &out_.drive);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<2>(out + kStaticsMembers[4].offset, &out_.dV_dq);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -604,21 +604,21 @@ void FlatForces(const double* p,
                 const double* trig,
                 const double* /*velocities*/) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
     Get(q, &q_);
     Vec<double, Sizes::kNphi> phi_;
     Get(phi, &phi_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Forces(p_,
                   q_,
                   phi_,
                   *At<Coefficients<double>>(c),
                   At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
+                  At<Vec<double, Sizes::kNumFriction>>(friction),
                   At<Trig<double>>(trig));
     return;
   }
@@ -644,8 +644,6 @@ void FlatDynamicsCopied(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -658,6 +656,8 @@ void FlatDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[5].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[6].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[7].offset, &out_.P_nc);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -694,6 +694,7 @@ void FlatDynamics(const double* p,
                   const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
       InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
       InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
@@ -703,8 +704,6 @@ void FlatDynamics(const double* p,
     Get(phi, &phi_);
     Vec<double, Sizes::kNq> qd_;
     Get(qd, &qd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Dynamics(p_,
                     q_,
                     phi_,
@@ -712,7 +711,7 @@ void FlatDynamics(const double* p,
                     t,
                     *At<Coefficients<double>>(c),
                     At<Dynamics<double>>(out),
-                    friction != nullptr ? &friction_ : nullptr,
+                    At<Vec<double, Sizes::kNumFriction>>(friction),
                     At<Trig<double>>(trig));
     return;
   }
@@ -741,8 +740,6 @@ void FlatKinetostaticsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -751,6 +748,8 @@ void FlatKinetostaticsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<2>(out + kStaticsMembers[1].offset, &out_.drive);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<2>(out + kStaticsMembers[4].offset, &out_.dV_dq);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -784,7 +783,9 @@ void FlatKinetostatics(const double* p,
                        const double* friction,
                        const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -795,8 +796,6 @@ void FlatKinetostatics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNq> qdd_;
     Get(qdd, &qdd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Kinetostatics(p_,
                          q_,
                          phi_,
@@ -805,7 +804,7 @@ void FlatKinetostatics(const double* p,
                          t,
                          *At<Coefficients<double>>(c),
                          At<Statics<double>>(out),
-                         friction != nullptr ? &friction_ : nullptr,
+                         At<Vec<double, Sizes::kNumFriction>>(friction),
                          At<Trig<double>>(trig));
     return;
   }
@@ -832,8 +831,6 @@ void FlatExcessDynamicsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNphi> phid_;
   Get(phid, &phid_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Excess<double> out_;
   if (out != nullptr) GetUnlessStored<16>(out + kExcessMembers[0].offset, &out_.M);
   if (out != nullptr) GetUnlessStored<4>(out + kExcessMembers[1].offset, &out_.h);
@@ -843,6 +840,8 @@ void FlatExcessDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<2>(out + kExcessMembers[5].offset, &out_.gamma);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[6].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[7].offset, &out_.V);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Model::ExcessDynamics(p_,
                         q_,
                         phi_,
@@ -870,7 +869,8 @@ void FlatExcessDynamics(const double* p,
                         double t,
                         double* out,
                         const double* friction) {
-  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
+  if (InPlace<kExcessInPlace, Excess<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -881,8 +881,6 @@ void FlatExcessDynamics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNphi> phid_;
     Get(phid, &phid_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::ExcessDynamics(p_,
                           q_,
                           phi_,
@@ -890,7 +888,7 @@ void FlatExcessDynamics(const double* p,
                           phid_,
                           t,
                           At<Excess<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
+                          At<Vec<double, Sizes::kNumFriction>>(friction));
     return;
   }
   FlatExcessDynamicsCopied<>(p, q, phi, qd, phid, t, out, friction);
@@ -1164,8 +1162,6 @@ mechgen::ViewSolveReport FlatRhsCopied(const double* p,
   Get(qd, &qd_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   RhsConstants<double> rc_;
   Get(rc + kRhsConstantsMembers[0].offset, &rc_.c);
   Trig<double> trig_;
@@ -1182,6 +1178,8 @@ mechgen::ViewSolveReport FlatRhsCopied(const double* p,
   if (out != nullptr) Get(out + kRhsMembers[5].offset, &out_.V);
   if (out != nullptr) Get(out + kRhsMembers[6].offset, &out_.P_nc);
   if (out != nullptr) Get(out + kRhsMembers[7].offset, &out_.Phi_phi);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   const SolveReport<double> report = Model::Rhs(p_,
                                                 rc_,
                                                 q_,
@@ -1217,7 +1215,8 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
                                  double* out,
                                  const double* friction) {
   if (InPlace<kRhsConstantsInPlace, RhsConstants<double>>(rc) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig) && InPlace<kRhsInPlace, Rhs<double>>(out)) {
+      InPlace<kTrigInPlace, Trig<double>>(trig) && InPlace<kRhsInPlace, Rhs<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -1226,8 +1225,6 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
     Get(qd, &qd_);
     std::array<int, Sizes::kNumBlocks> modes_;
     Get(modes, &modes_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     const SolveReport<double> report = Model::Rhs(p_,
                                                   *At<RhsConstants<double>>(rc),
                                                   q_,
@@ -1236,7 +1233,7 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
                                                   modes_,
                                                   At<Trig<double>>(trig),
                                                   At<Rhs<double>>(out),
-                                                  friction != nullptr ? &friction_ : nullptr);
+                                                  At<Vec<double, Sizes::kNumFriction>>(friction));
     return Report(report);
   }
   return FlatRhsCopied<>(p, rc, q, qd, t, modes, trig, out, friction);

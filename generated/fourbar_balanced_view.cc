@@ -703,8 +703,6 @@ void FlatForcesCopied(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   static const Coefficients<double> c_{};
   (void)c;
   Statics<double> out_;
@@ -713,6 +711,8 @@ void FlatForcesCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<8>(out + kStaticsMembers[6].offset, &out_.R);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   static const Trig<double> trig_{};
   (void)trig;
   Model::Forces(p_,
@@ -739,21 +739,21 @@ void FlatForces(const double* p,
                 const double* trig,
                 const double* /*velocities*/) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
     Get(q, &q_);
     Vec<double, Sizes::kNphi> phi_;
     Get(phi, &phi_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Forces(p_,
                   q_,
                   phi_,
                   *At<Coefficients<double>>(c),
                   At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
+                  At<Vec<double, Sizes::kNumFriction>>(friction),
                   At<Trig<double>>(trig));
     return;
   }
@@ -779,8 +779,6 @@ void FlatDynamicsCopied(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -793,6 +791,8 @@ void FlatDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[5].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[6].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[7].offset, &out_.P_nc);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -829,6 +829,7 @@ void FlatDynamics(const double* p,
                   const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
       InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
       InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
@@ -838,8 +839,6 @@ void FlatDynamics(const double* p,
     Get(phi, &phi_);
     Vec<double, Sizes::kNq> qd_;
     Get(qd, &qd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Dynamics(p_,
                     q_,
                     phi_,
@@ -847,7 +846,7 @@ void FlatDynamics(const double* p,
                     t,
                     *At<Coefficients<double>>(c),
                     At<Dynamics<double>>(out),
-                    friction != nullptr ? &friction_ : nullptr,
+                    At<Vec<double, Sizes::kNumFriction>>(friction),
                     At<Trig<double>>(trig));
     return;
   }
@@ -876,8 +875,6 @@ void FlatKinetostaticsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -888,6 +885,8 @@ void FlatKinetostaticsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<8>(out + kStaticsMembers[6].offset, &out_.R);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -922,7 +921,9 @@ void FlatKinetostatics(const double* p,
                        const double* friction,
                        const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -933,8 +934,6 @@ void FlatKinetostatics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNq> qdd_;
     Get(qdd, &qdd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Kinetostatics(p_,
                          q_,
                          phi_,
@@ -943,7 +942,7 @@ void FlatKinetostatics(const double* p,
                          t,
                          *At<Coefficients<double>>(c),
                          At<Statics<double>>(out),
-                         friction != nullptr ? &friction_ : nullptr,
+                         At<Vec<double, Sizes::kNumFriction>>(friction),
                          At<Trig<double>>(trig));
     return;
   }
@@ -970,8 +969,6 @@ void FlatExcessDynamicsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNphi> phid_;
   Get(phid, &phid_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Excess<double> out_;
   if (out != nullptr) GetUnlessStored<9>(out + kExcessMembers[0].offset, &out_.M);
   if (out != nullptr) GetUnlessStored<3>(out + kExcessMembers[1].offset, &out_.h);
@@ -981,6 +978,8 @@ void FlatExcessDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<2>(out + kExcessMembers[5].offset, &out_.gamma);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[6].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[7].offset, &out_.V);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Model::ExcessDynamics(p_,
                         q_,
                         phi_,
@@ -1008,7 +1007,8 @@ void FlatExcessDynamics(const double* p,
                         double t,
                         double* out,
                         const double* friction) {
-  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
+  if (InPlace<kExcessInPlace, Excess<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -1019,8 +1019,6 @@ void FlatExcessDynamics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNphi> phid_;
     Get(phid, &phid_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::ExcessDynamics(p_,
                           q_,
                           phi_,
@@ -1028,7 +1026,7 @@ void FlatExcessDynamics(const double* p,
                           phid_,
                           t,
                           At<Excess<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
+                          At<Vec<double, Sizes::kNumFriction>>(friction));
     return;
   }
   FlatExcessDynamicsCopied<>(p, q, phi, qd, phid, t, out, friction);
@@ -1405,8 +1403,6 @@ mechgen::ViewSolveReport FlatRhsCopied(const double* p,
   Get(qd, &qd_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   RhsConstants<double> rc_;
   Get(rc + kRhsConstantsMembers[0].offset, &rc_.c);
   Trig<double> trig_;
@@ -1423,6 +1419,8 @@ mechgen::ViewSolveReport FlatRhsCopied(const double* p,
   if (out != nullptr) Get(out + kRhsMembers[5].offset, &out_.V);
   if (out != nullptr) Get(out + kRhsMembers[6].offset, &out_.P_nc);
   if (out != nullptr) Get(out + kRhsMembers[7].offset, &out_.Phi_phi);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   const SolveReport<double> report = Model::Rhs(p_,
                                                 rc_,
                                                 q_,
@@ -1458,7 +1456,8 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
                                  double* out,
                                  const double* friction) {
   if (InPlace<kRhsConstantsInPlace, RhsConstants<double>>(rc) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig) && InPlace<kRhsInPlace, Rhs<double>>(out)) {
+      InPlace<kTrigInPlace, Trig<double>>(trig) && InPlace<kRhsInPlace, Rhs<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -1467,8 +1466,6 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
     Get(qd, &qd_);
     std::array<int, Sizes::kNumBlocks> modes_;
     Get(modes, &modes_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     const SolveReport<double> report = Model::Rhs(p_,
                                                   *At<RhsConstants<double>>(rc),
                                                   q_,
@@ -1477,7 +1474,7 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
                                                   modes_,
                                                   At<Trig<double>>(trig),
                                                   At<Rhs<double>>(out),
-                                                  friction != nullptr ? &friction_ : nullptr);
+                                                  At<Vec<double, Sizes::kNumFriction>>(friction));
     return Report(report);
   }
   return FlatRhsCopied<>(p, rc, q, qd, t, modes, trig, out, friction);

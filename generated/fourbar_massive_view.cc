@@ -623,8 +623,6 @@ void FlatForcesCopied(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -634,6 +632,8 @@ void FlatForcesCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<8>(out + kStaticsMembers[6].offset, &out_.R);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -663,21 +663,21 @@ void FlatForces(const double* p,
                 const double* trig,
                 const double* /*velocities*/) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
     Get(q, &q_);
     Vec<double, Sizes::kNphi> phi_;
     Get(phi, &phi_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Forces(p_,
                   q_,
                   phi_,
                   *At<Coefficients<double>>(c),
                   At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
+                  At<Vec<double, Sizes::kNumFriction>>(friction),
                   At<Trig<double>>(trig));
     return;
   }
@@ -703,8 +703,6 @@ void FlatDynamicsCopied(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -717,6 +715,8 @@ void FlatDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[5].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[6].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[7].offset, &out_.P_nc);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -753,6 +753,7 @@ void FlatDynamics(const double* p,
                   const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
       InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
       InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
@@ -762,8 +763,6 @@ void FlatDynamics(const double* p,
     Get(phi, &phi_);
     Vec<double, Sizes::kNq> qd_;
     Get(qd, &qd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Dynamics(p_,
                     q_,
                     phi_,
@@ -771,7 +770,7 @@ void FlatDynamics(const double* p,
                     t,
                     *At<Coefficients<double>>(c),
                     At<Dynamics<double>>(out),
-                    friction != nullptr ? &friction_ : nullptr,
+                    At<Vec<double, Sizes::kNumFriction>>(friction),
                     At<Trig<double>>(trig));
     return;
   }
@@ -800,8 +799,6 @@ void FlatKinetostaticsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -812,6 +809,8 @@ void FlatKinetostaticsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<8>(out + kStaticsMembers[6].offset, &out_.R);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -846,7 +845,9 @@ void FlatKinetostatics(const double* p,
                        const double* friction,
                        const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -857,8 +858,6 @@ void FlatKinetostatics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNq> qdd_;
     Get(qdd, &qdd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Kinetostatics(p_,
                          q_,
                          phi_,
@@ -867,7 +866,7 @@ void FlatKinetostatics(const double* p,
                          t,
                          *At<Coefficients<double>>(c),
                          At<Statics<double>>(out),
-                         friction != nullptr ? &friction_ : nullptr,
+                         At<Vec<double, Sizes::kNumFriction>>(friction),
                          At<Trig<double>>(trig));
     return;
   }
@@ -894,8 +893,6 @@ void FlatExcessDynamicsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNphi> phid_;
   Get(phid, &phid_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Excess<double> out_;
   if (out != nullptr) GetUnlessStored<9>(out + kExcessMembers[0].offset, &out_.M);
   if (out != nullptr) GetUnlessStored<3>(out + kExcessMembers[1].offset, &out_.h);
@@ -905,6 +902,8 @@ void FlatExcessDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<2>(out + kExcessMembers[5].offset, &out_.gamma);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[6].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[7].offset, &out_.V);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Model::ExcessDynamics(p_,
                         q_,
                         phi_,
@@ -932,7 +931,8 @@ void FlatExcessDynamics(const double* p,
                         double t,
                         double* out,
                         const double* friction) {
-  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
+  if (InPlace<kExcessInPlace, Excess<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -943,8 +943,6 @@ void FlatExcessDynamics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNphi> phid_;
     Get(phid, &phid_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::ExcessDynamics(p_,
                           q_,
                           phi_,
@@ -952,7 +950,7 @@ void FlatExcessDynamics(const double* p,
                           phid_,
                           t,
                           At<Excess<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
+                          At<Vec<double, Sizes::kNumFriction>>(friction));
     return;
   }
   FlatExcessDynamicsCopied<>(p, q, phi, qd, phid, t, out, friction);
@@ -1330,8 +1328,6 @@ mechgen::ViewSolveReport FlatRhsCopied(const double* p,
   Get(qd, &qd_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   RhsConstants<double> rc_;
   Get(rc + kRhsConstantsMembers[0].offset, &rc_.c);
   Trig<double> trig_;
@@ -1348,6 +1344,8 @@ mechgen::ViewSolveReport FlatRhsCopied(const double* p,
   if (out != nullptr) Get(out + kRhsMembers[5].offset, &out_.V);
   if (out != nullptr) Get(out + kRhsMembers[6].offset, &out_.P_nc);
   if (out != nullptr) Get(out + kRhsMembers[7].offset, &out_.Phi_phi);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   const SolveReport<double> report = Model::Rhs(p_,
                                                 rc_,
                                                 q_,
@@ -1383,7 +1381,8 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
                                  double* out,
                                  const double* friction) {
   if (InPlace<kRhsConstantsInPlace, RhsConstants<double>>(rc) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig) && InPlace<kRhsInPlace, Rhs<double>>(out)) {
+      InPlace<kTrigInPlace, Trig<double>>(trig) && InPlace<kRhsInPlace, Rhs<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -1392,8 +1391,6 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
     Get(qd, &qd_);
     std::array<int, Sizes::kNumBlocks> modes_;
     Get(modes, &modes_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     const SolveReport<double> report = Model::Rhs(p_,
                                                   *At<RhsConstants<double>>(rc),
                                                   q_,
@@ -1402,7 +1399,7 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
                                                   modes_,
                                                   At<Trig<double>>(trig),
                                                   At<Rhs<double>>(out),
-                                                  friction != nullptr ? &friction_ : nullptr);
+                                                  At<Vec<double, Sizes::kNumFriction>>(friction));
     return Report(report);
   }
   return FlatRhsCopied<>(p, rc, q, qd, t, modes, trig, out, friction);

@@ -359,8 +359,6 @@ void FlatForcesCopied(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -371,6 +369,8 @@ void FlatForcesCopied(const double* p,
   if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[3].offset, &out_.normal);
   if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[4].offset, &out_.gain);
   if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[5].offset, &out_.K_rel);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   static const Trig<double> trig_{};
   (void)trig;
   Model::Forces(p_,
@@ -398,21 +398,21 @@ void FlatForces(const double* p,
                 const double* trig,
                 const double* /*velocities*/) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
     Get(q, &q_);
     Vec<double, Sizes::kNphi> phi_;
     Get(phi, &phi_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Forces(p_,
                   q_,
                   phi_,
                   *At<Coefficients<double>>(c),
                   At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
+                  At<Vec<double, Sizes::kNumFriction>>(friction),
                   At<Trig<double>>(trig));
     return;
   }

@@ -549,10 +549,6 @@ void FlatForcesCopied(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
-  Vec<double, Sizes::kNq> velocities_;
-  if (velocities != nullptr) Get(velocities, &velocities_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -565,11 +561,15 @@ void FlatForcesCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[7].offset, &out_.normal);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[8].offset, &out_.gain);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[9].offset, &out_.K_rel);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
   if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
   if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
+  Vec<double, Sizes::kNq> velocities_;
+  if (velocities != nullptr) Get(velocities, &velocities_);
   Model::Forces(p_,
                 q_,
                 phi_,
@@ -598,25 +598,24 @@ void FlatForces(const double* p,
                 const double* trig,
                 const double* velocities) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig) &&
+      InPlace<true, Vec<double, Sizes::kNq>>(velocities)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
     Get(q, &q_);
     Vec<double, Sizes::kNphi> phi_;
     Get(phi, &phi_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
-    Vec<double, Sizes::kNq> velocities_;
-    if (velocities != nullptr) Get(velocities, &velocities_);
     Model::Forces(p_,
                   q_,
                   phi_,
                   *At<Coefficients<double>>(c),
                   At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
+                  At<Vec<double, Sizes::kNumFriction>>(friction),
                   At<Trig<double>>(trig),
-                  velocities != nullptr ? &velocities_ : nullptr);
+                  At<Vec<double, Sizes::kNq>>(velocities));
     return;
   }
   FlatForcesCopied<>(p, q, phi, c, out, friction, trig, velocities);
@@ -641,8 +640,6 @@ void FlatDynamicsCopied(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -655,6 +652,8 @@ void FlatDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[5].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[6].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[7].offset, &out_.P_nc);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -691,6 +690,7 @@ void FlatDynamics(const double* p,
                   const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
       InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
       InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
@@ -700,8 +700,6 @@ void FlatDynamics(const double* p,
     Get(phi, &phi_);
     Vec<double, Sizes::kNq> qd_;
     Get(qd, &qd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Dynamics(p_,
                     q_,
                     phi_,
@@ -709,7 +707,7 @@ void FlatDynamics(const double* p,
                     t,
                     *At<Coefficients<double>>(c),
                     At<Dynamics<double>>(out),
-                    friction != nullptr ? &friction_ : nullptr,
+                    At<Vec<double, Sizes::kNumFriction>>(friction),
                     At<Trig<double>>(trig));
     return;
   }
@@ -738,8 +736,6 @@ void FlatKinetostaticsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -753,6 +749,8 @@ void FlatKinetostaticsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[7].offset, &out_.normal);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[8].offset, &out_.gain);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[9].offset, &out_.K_rel);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -790,7 +788,9 @@ void FlatKinetostatics(const double* p,
                        const double* friction,
                        const double* trig) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -801,8 +801,6 @@ void FlatKinetostatics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNq> qdd_;
     Get(qdd, &qdd_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Kinetostatics(p_,
                          q_,
                          phi_,
@@ -811,7 +809,7 @@ void FlatKinetostatics(const double* p,
                          t,
                          *At<Coefficients<double>>(c),
                          At<Statics<double>>(out),
-                         friction != nullptr ? &friction_ : nullptr,
+                         At<Vec<double, Sizes::kNumFriction>>(friction),
                          At<Trig<double>>(trig));
     return;
   }
@@ -838,8 +836,6 @@ void FlatExcessDynamicsCopied(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNphi> phid_;
   Get(phid, &phid_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Excess<double> out_;
   if (out != nullptr) GetUnlessStored<9>(out + kExcessMembers[0].offset, &out_.M);
   if (out != nullptr) GetUnlessStored<3>(out + kExcessMembers[1].offset, &out_.h);
@@ -849,6 +845,8 @@ void FlatExcessDynamicsCopied(const double* p,
   if (out != nullptr) GetUnlessStored<2>(out + kExcessMembers[5].offset, &out_.gamma);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[6].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[7].offset, &out_.V);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Model::ExcessDynamics(p_,
                         q_,
                         phi_,
@@ -876,7 +874,8 @@ void FlatExcessDynamics(const double* p,
                         double t,
                         double* out,
                         const double* friction) {
-  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
+  if (InPlace<kExcessInPlace, Excess<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
@@ -887,8 +886,6 @@ void FlatExcessDynamics(const double* p,
     Get(qd, &qd_);
     Vec<double, Sizes::kNphi> phid_;
     Get(phid, &phid_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::ExcessDynamics(p_,
                           q_,
                           phi_,
@@ -896,7 +893,7 @@ void FlatExcessDynamics(const double* p,
                           phid_,
                           t,
                           At<Excess<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
+                          At<Vec<double, Sizes::kNumFriction>>(friction));
     return;
   }
   FlatExcessDynamicsCopied<>(p, q, phi, qd, phid, t, out, friction);

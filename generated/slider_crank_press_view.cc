@@ -358,8 +358,6 @@ void FlatForcesCopied(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -369,6 +367,8 @@ void FlatForcesCopied(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<9>(out + kStaticsMembers[6].offset, &out_.R);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -398,21 +398,21 @@ void FlatForces(const double* p,
                 const double* trig,
                 const double* /*velocities*/) {
   if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+      InPlace<kStaticsInPlace, Statics<double>>(out) &&
+      InPlace<true, Vec<double, Sizes::kNumFriction>>(friction) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
     const ParamsArg<kParamsInPlace> p_arg(p);
     const Params<double>& p_ = p_arg.p;
     Vec<double, Sizes::kNq> q_;
     Get(q, &q_);
     Vec<double, Sizes::kNphi> phi_;
     Get(phi, &phi_);
-    Vec<double, Sizes::kNumFriction> friction_;
-    if (friction != nullptr) Get(friction, &friction_);
     Model::Forces(p_,
                   q_,
                   phi_,
                   *At<Coefficients<double>>(c),
                   At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
+                  At<Vec<double, Sizes::kNumFriction>>(friction),
                   At<Trig<double>>(trig));
     return;
   }
