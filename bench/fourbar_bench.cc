@@ -129,6 +129,30 @@ void MechgenContinuationView(benchmark::State& state) {
   if (summary.status != mechgen::position::Status::kConverged) state.SkipWithError("step failed");
 }
 BENCHMARK(MechgenContinuationView);
+
+// The same steps on the runtime sized to the view's shape (core/view_sized.h: one input, two
+// dependent coordinates), which `mechgen sweep` and `mechgen statics` run for such a model
+// (analysis::RunSized): PositionSolver<SizedViewModel<1, 2>> from mechgen_runtime_view.
+void MechgenContinuationSized(benchmark::State& state) {
+  using Sized = mechgen::ViewSized12;
+  mechgen::position::PositionSolver<Sized, mechgen::position::NewtonAssembler> solver{
+      Sized(mechgen::ViewModel(mech::fourbar::View()))};
+  mechgen::position::Summary summary;
+  if (solver.AssembleDefault(&summary) != mechgen::position::Status::kConverged) {
+    state.SkipWithError("assembly failed");
+    return;
+  }
+  using VecQ = mechgen::ModelTypes<Sized>::VecQ;
+  solver.MoveTo(VecQ::Zero(), &summary);
+  long k = 1;
+  for (auto _ : state) {
+    const VecQ q = VecQ::Constant(k++ * kStep);
+    solver.MoveTo(q, &summary);
+    benchmark::DoNotOptimize(solver.state());
+  }
+  if (summary.status != mechgen::position::Status::kConverged) state.SkipWithError("step failed");
+}
+BENCHMARK(MechgenContinuationSized);
 #endif
 
 #ifdef MECHGEN_BENCH_VIEW_ANALYSES
@@ -137,13 +161,15 @@ BENCHMARK(MechgenContinuationView);
 // joints; each row the position step and the statics with its friction iteration, forward and
 // backward) over its range in 360 steps, per iteration of the benchmark; the right-hand side
 // (qd, qdd, P_nc) of fourbar_massive's minimal equations at one state.
-template <bool kView>
+// Model: the generated one (fixed sizes), mechgen::ViewModel (any view) or mechgen::ViewSized12
+// (the view on the runtime sized to its shape, as `mechgen statics` runs this model).
+template <class Model>
 void StaticsRows(benchmark::State& state) {
   using M = mech::slider_crank_friction::Model;
-  using Model = std::conditional_t<kView, mechgen::ViewModel, M>;
+  constexpr bool kView = !std::is_same_v<Model, M>;
   const Model model = [] {
     if constexpr (kView) {
-      return mechgen::ViewModel(mech::slider_crank_friction::View());
+      return Model(mechgen::ViewModel(mech::slider_crank_friction::View()));
     } else {
       return M();
     }
@@ -159,7 +185,8 @@ void StaticsRows(benchmark::State& state) {
   int failures = 0;
   for (auto _ : state) {
     if constexpr (kView) {
-      mechgen::statics::ViewStaticsRowFn row = [](int, const mechgen::statics::StaticsRecord<mechgen::ViewModel>& r) {
+      // (The library's instantiations take the row callback as a std::function.)
+      mechgen::statics::StaticsRowFn<Model> row = [](int, const mechgen::statics::StaticsRecord<Model>& r) {
         benchmark::DoNotOptimize(r);
       };
       failures += mechgen::statics::StaticsSweepRows(mechgen::statics::Options(), &solver, q0, q1, 360,
@@ -173,8 +200,9 @@ void StaticsRows(benchmark::State& state) {
   if (failures != 0) state.SkipWithError("rows failed");
   state.SetItemsProcessed(state.iterations() * 361);  // items: rows
 }
-BENCHMARK_TEMPLATE(StaticsRows, false)->Name("StaticsRows");
-BENCHMARK_TEMPLATE(StaticsRows, true)->Name("StaticsRowsView");
+BENCHMARK_TEMPLATE(StaticsRows, mech::slider_crank_friction::Model)->Name("StaticsRows");
+BENCHMARK_TEMPLATE(StaticsRows, mechgen::ViewModel)->Name("StaticsRowsView");
+BENCHMARK_TEMPLATE(StaticsRows, mechgen::ViewSized12)->Name("StaticsRowsSized");
 
 template <bool kView>
 void RightHandSide(benchmark::State& state) {

@@ -11,11 +11,13 @@
 // driven slider-crank whose loads read a velocity, a two-input five-bar robot). Part of
 // model_test (no executable of its own).
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -472,6 +474,75 @@ TEST(ViewStaticsTool, RefusesWhatTheViewLacks) {
     EXPECT_EQ(RunStatics(model, arguments), statics_tool::kExitUsage) << k;
     EXPECT_FALSE(analysis::Check(model, arguments).empty()) << k;
     EXPECT_FALSE(std::ifstream(arguments.csv_path).good()) << k;
+  }
+#endif
+}
+
+// The statics command of a model of one input and two dependent coordinates, as mechgen runs
+// it (on the runtime sized to that shape, core/view_sized.h) and on the instantiation for a view
+// of any shape: the same CSV, byte for byte, with friction (forward and backward, dead zones,
+// equilibria, at speed), springs and gravity, and the design derivatives; the same exit status
+// and output.
+std::string StaticsCsv(const ModelView& view, bool sized, statics_tool::Arguments arguments, int* status,
+                       std::string* printed) {
+  ViewModel model(view);
+  model.sized = sized;
+  arguments.csv_path = ::testing::TempDir() + "view_statics_sized.csv";
+  arguments.table = 3;
+  std::remove(arguments.csv_path.c_str());
+  ::testing::internal::CaptureStdout();
+  *status = RunStatics(model, arguments);
+  *printed = ::testing::internal::GetCapturedStdout();
+  std::ifstream in(arguments.csv_path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+void ExpectSizedSame(const ModelView& view, const statics_tool::Arguments& arguments, const char* what) {
+  ASSERT_TRUE(ViewSized12::Fits(ViewModel(view))) << view.name;
+  int status_sized = -1, status_any = -1;
+  std::string printed_sized, printed_any;
+  const std::string a = StaticsCsv(view, true, arguments, &status_sized, &printed_sized);
+  const std::string b = StaticsCsv(view, false, arguments, &status_any, &printed_any);
+  EXPECT_EQ(status_sized, status_any) << what;
+  EXPECT_GT(std::count(a.begin(), a.end(), '\n'), 40) << what;
+  EXPECT_TRUE(a == b) << view.name << " " << what << ": the CSVs differ";
+  // The printed summary but for the timing figure (us/row).
+  auto untimed = [](std::string text) {
+    for (size_t at = text.find(" us/row"); at != std::string::npos; at = text.find(" us/row", at + 1)) {
+      size_t begin = at;
+      while (begin > 0 && (std::isdigit(static_cast<unsigned char>(text[begin - 1])) || text[begin - 1] == '.')) --begin;
+      text.replace(begin, at - begin, "T");
+      at = begin + 1;
+    }
+    return text;
+  };
+  EXPECT_EQ(untimed(printed_sized), untimed(printed_any)) << what;
+}
+TEST(ViewStaticsTool, SizedRuntimeSameAsAnyShape) {
+#ifdef MECHGEN_HAVE_slider_crank_friction
+  {
+    statics_tool::Arguments arguments;
+    arguments.steps = 120;
+    arguments.dead_zones = arguments.equilibria = true;
+    arguments.samples = 72;
+    ExpectSizedSame(mech::slider_crank_friction::View(), arguments, "dead zones, equilibria");
+    arguments = statics_tool::Arguments();
+    arguments.steps = 90;
+    arguments.speed = 2 * 3.14159265358979323846;
+    arguments.ranges.push_back("theta_crank:10deg:300deg");
+    ExpectSizedSame(mech::slider_crank_friction::View(), arguments, "at speed");
+  }
+#endif
+#ifdef MECHGEN_HAVE_fourbar_loaded
+  {
+    statics_tool::Arguments arguments;
+    arguments.steps = 100;
+    arguments.equilibria = true;
+    arguments.samples = 90;
+    ExpectSizedSame(mech::fourbar_loaded::View(), arguments, "equilibria");
+    arguments = statics_tool::Arguments();
+    arguments.steps = 80;
+    arguments.design = true;
+    ExpectSizedSame(mech::fourbar_loaded::View(), arguments, "design");
   }
 #endif
 }

@@ -26,6 +26,7 @@
 #include <functional>
 #include <iostream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "mechgen/analysis/inputs.h"
@@ -193,9 +194,19 @@ std::string Check(const M& model, const StaticsRequest& request) {
  * \param facts    Filled with what the command's pictures need of the model (may be null).
  * \return The exit status (0, 1, 2, 3 the model does not assemble; see the file comment).
  */
+/// The statics of a view whose shape the runtime has an instantiation sized to
+/// (core/view_sized.h: SizedViewModel), run there, its exit status in *status; false (nothing
+/// done) for any other view, or one whose `sized` is false. In mechgen_runtime_view
+/// (runtime/view/analysis_sized.cc).
+bool RunSized(const ViewModel& model, const StaticsRequest& request, const StaticsOutputs& outputs,
+              const std::function<int()>& prepare, StaticsPlotFacts* facts, int* status);
+
 template <class M, class Assembler = position::NewtonAssembler>
 int Run(const M& model, const StaticsRequest& request, const StaticsOutputs& outputs,
         const std::function<int()>& prepare = nullptr, StaticsPlotFacts* facts = nullptr) {
+  if constexpr (std::is_same_v<M, ViewModel>) {
+    if (int status = 0; RunSized(model, request, outputs, prepare, facts, &status)) return status;
+  }
   using C = ModelCalls<M>;
   using Types = ModelTypes<M>;
   using Record = statics::StaticsRecord<M>;

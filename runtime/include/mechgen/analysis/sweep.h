@@ -246,8 +246,17 @@ std::string Check(const M& model, const SweepRequest& request) {
  * \return The exit status (kSweepConverged, kSweepRowsFailed, kSweepError, kSweepUsage after
  *         "<tool>: error: <Check's text>" on stderr).
  */
+/// The sweep of a view whose shape the runtime has an instantiation sized to
+/// (core/view_sized.h: SizedViewModel), run there, its exit status in *status; false (nothing
+/// done) for any other view, or one whose `sized` is false. In mechgen_runtime_view
+/// (runtime/view/analysis_sized.cc).
+bool RunSized(const ViewModel& model, const SweepRequest& request, const SweepOutputs& outputs, int* status);
+
 template <class M, class Assembler = position::NewtonAssembler>
 int Run(const M& model, const SweepRequest& request, const SweepOutputs& outputs) {
+  if constexpr (std::is_same_v<M, ViewModel>) {
+    if (int status = 0; RunSized(model, request, outputs, &status)) return status;
+  }
   using C = ModelCalls<M>;
   using Types = ModelTypes<M>;
   using Record = SweepRecord<M>;

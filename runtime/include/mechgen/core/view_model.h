@@ -91,6 +91,10 @@ struct ViewModel {
   }
 
   const ModelView* view;
+  /// Whether an analysis may run this view on the runtime's instantiation sized to its shape
+  /// (core/view_sized.h: one input and two dependent coordinates), where there is one; false:
+  /// on the ViewModel instantiation (the tests compare the two).
+  bool sized = true;
   /// What ModelCalls<ViewModel> answers most often, read from the view once (the view does not
   /// change): its sizes and what it has, each one load instead of the view's pointer, its flag
   /// and the function pointer that the flag goes with, on every call of a continuation step
@@ -610,25 +614,38 @@ struct ModelCalls<ViewModel> {
     get(l.K_P, &c->K_P, 2 * np, nq, 0, 0);
     get(l.L_P, &c->L_P, 2 * np, nq * nq, 0, 0);
   }
+  // (Each call with q and phi given as the view's flat arrays, <Call>Flat, is the one place of
+  // what the call does; the typed call forwards to it, and so do SizedViewModel's,
+  // core/view_sized.h.)
   static void Coeffs(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                      T::Coefficients* c, const Trig* trig = nullptr) {
-    double* const buffer = c->buffer.data();
+    CoeffsFlat(m, p, q.data(), phi.data(), c, trig);
+  }
+  static void CoeffsFlat(const M& m, const ViewParams& p, const double* q, const double* phi, T::Coefficients* c,
+                         const Trig* trig) {
     MapCoefficients(m, c);  // (before the call: see MapCoefficients)
     // (The view writes Coefficients whole: the buffer is not read, nothing to initialize.)
-    m.view->Coeffs(p.data(), q.data(), phi.data(), buffer,
-                   trig != nullptr && HasTrig(m) ? trig->buffer.data() : nullptr);
+    m.view->Coeffs(p.data(), q, phi, c->buffer.data(), trig != nullptr && HasTrig(m) ? trig->buffer.data() : nullptr);
   }
   template <class Mu>
   static void TransmissionAngles(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, Mu* mu) {
+    TransmissionAnglesFlat(m, p, q.data(), phi.data(), mu);
+  }
+  template <class Mu>
+  static void TransmissionAnglesFlat(const M& m, const ViewParams& p, const double* q, const double* phi, Mu* mu) {
     const int n = NumTransmissionAngles(m);
     mu->resize(n);
-    if (n > 0) m.view->TransmissionAngles(p.data(), q.data(), phi.data(), mu->data());
+    if (n > 0) m.view->TransmissionAngles(p.data(), q, phi, mu->data());
   }
   static ViewSolveReport Solve(const M& m, const ViewParams& p, const T::VecQ& q, T::VecPhi* phi,
                                const Modes& modes, int max_iterations, double tolerance, Trig* trig = nullptr) {
+    return SolveFlat(m, p, q.data(), phi->data(), modes, max_iterations, tolerance, trig);
+  }
+  static ViewSolveReport SolveFlat(const M& m, const ViewParams& p, const double* q, double* phi, const Modes& modes,
+                                   int max_iterations, double tolerance, Trig* trig) {
     // (The view writes trig whole, 0 for the displacements: nothing to initialize.)
     const bool with_trig = trig != nullptr && HasTrig(m);
-    return m.view->Solve(p.data(), q.data(), phi->data(), modes.data(), max_iterations, tolerance,
+    return m.view->Solve(p.data(), q, phi, modes.data(), max_iterations, tolerance,
                          with_trig ? trig->buffer.data() : nullptr);
   }
 
@@ -725,10 +742,13 @@ struct ModelCalls<ViewModel> {
   /// input velocities or nullptr (at rest; a model whose statics read none ignores them).
   static void Forces(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                      const T::Coefficients& c, T::Statics* out, const T::VecF* f, const T::VecQ* qd) {
+    ForcesFlat(m, p, q.data(), phi.data(), c, out, f != nullptr ? f->data() : nullptr,
+               qd != nullptr ? qd->data() : nullptr);
+  }
+  static void ForcesFlat(const M& m, const ViewParams& p, const double* q, const double* phi,
+                         const T::Coefficients& c, T::Statics* out, const double* f, const double* qd) {
     if (out->view != m.view) SetNaNStatics(m, out);
-    m.view->Forces(p.data(), q.data(), phi.data(), c.buffer.data(), out->buffer.data(),
-                   f != nullptr && HasFriction(m) ? f->data() : nullptr, nullptr,
-                   qd != nullptr ? qd->data() : nullptr);
+    m.view->Forces(p.data(), q, phi, c.buffer.data(), out->buffer.data(), HasFriction(m) ? f : nullptr, nullptr, qd);
   }
   /// The coefficients from a position::State (Phi_phi, K, L and the points; Phi 0) into c's
   /// buffer and its maps, as Coeffs sets them (ModelCalls<M>::StaticsCoefficients).
@@ -751,9 +771,13 @@ struct ModelCalls<ViewModel> {
   /// Model::Stiffness through the view (d2V_dq2 and stiffness), where the model has it.
   static void Stiffness(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                         const T::Coefficients& c, T::Statics* out) {
+    StiffnessFlat(m, p, q.data(), phi.data(), c, out);
+  }
+  static void StiffnessFlat(const M& m, const ViewParams& p, const double* q, const double* phi,
+                            const T::Coefficients& c, T::Statics* out) {
     if (m.view->Stiffness == nullptr) return;
     if (out->view != m.view) SetNaNStatics(m, out);
-    m.view->Stiffness(p.data(), q.data(), phi.data(), c.buffer.data(), out->buffer.data());
+    m.view->Stiffness(p.data(), q, phi, c.buffer.data(), out->buffer.data());
   }
   // ---- Design (a `design:` section): the design derivatives (position/design.h), the
   //      statics' (statics/sweep.h) and the design checks, through the view ----
@@ -780,16 +804,25 @@ struct ModelCalls<ViewModel> {
   /// this view is set to NaN first.
   static void Design(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                      internal::ViewDesignDerivatives* out) {
+    DesignFlat(m, p, q.data(), phi.data(), out);
+  }
+  static void DesignFlat(const M& m, const ViewParams& p, const double* q, const double* phi,
+                         internal::ViewDesignDerivatives* out) {
     if (out->view != m.view) SetNaN(m, out);
-    m.view->Design(p.data(), q.data(), phi.data(), out->buffer.data());
+    m.view->Design(p.data(), q, phi, out->buffer.data());
   }
   /// The view's StaticsDesign into *out from the coefficients c and the design derivatives dc
   /// (Design's, at the same configuration).
   static void StaticsDesign(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                             const T::Coefficients& c, const internal::ViewDesignDerivatives& dc,
                             internal::ViewStaticsDesign* out) {
+    StaticsDesignFlat(m, p, q.data(), phi.data(), c, dc, out);
+  }
+  static void StaticsDesignFlat(const M& m, const ViewParams& p, const double* q, const double* phi,
+                                const T::Coefficients& c, const internal::ViewDesignDerivatives& dc,
+                                internal::ViewStaticsDesign* out) {
     if (out->view != m.view) SetNaN(m, out);
-    m.view->StaticsDesign(p.data(), q.data(), phi.data(), c.buffer.data(), dc.buffer.data(), out->buffer.data());
+    m.view->StaticsDesign(p.data(), q, phi, c.buffer.data(), dc.buffer.data(), out->buffer.data());
   }
   /// The view's DesignChecks: the margins (NumDesignChecks) and, where dmargin_dp is not
   /// nullptr, their derivatives (NumDesignChecks x NumDesign); both sized (and zeroed: the view

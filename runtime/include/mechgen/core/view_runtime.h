@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "mechgen/core/view_model.h"
+#include "mechgen/core/view_sized.h"
 #include "mechgen/dynamics/columns.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
@@ -103,6 +104,27 @@ extern template std::vector<StaticsColumn<ViewModel>> StaticsColumns<ViewModel>(
 extern template std::vector<ReactionJoint> ReactionJoints<ViewModel>(const ViewModel&);
 extern template std::vector<GroundBearing> GroundBearings<ViewModel>(const ViewModel&);
 extern template std::string SpeedNote<ViewModel>(const ViewModel&, const ViewVecQ*);
+}  // namespace statics
+
+// ---- The runtime sized to the commonest shape, one input and two dependent coordinates
+//      (core/view_sized.h; instantiated in runtime/view/analysis_sized.cc, where the sweep and
+//      the statics of a view of that shape run: analysis::RunSized) ----
+using ViewSized12 = SizedViewModel<1, 2>;
+namespace position {
+extern template class PositionSolver<ViewSized12, NewtonAssembler>;
+}  // namespace position
+/// The row callbacks of SweepRows and StaticsSweepRows at those sizes.
+using ViewSized12RowFn = std::function<void(int, const SweepRecord<ViewSized12>&)>;
+extern template int SweepRows<ViewSized12, position::NewtonAssembler, ViewSized12RowFn&>(
+    position::PositionSolver<ViewSized12, position::NewtonAssembler>*, const ModelTypes<ViewSized12>::VecQ&,
+    const ModelTypes<ViewSized12>::VecQ&, int, const ModelTypes<ViewSized12>::VecQ&,
+    const ModelTypes<ViewSized12>::VecQ&, const SweepOptions&, ViewSized12RowFn&);
+namespace statics {
+using ViewSized12RowFn = StaticsRowFn<ViewSized12>;
+extern template int StaticsSweepRows<ViewSized12, position::NewtonAssembler, ViewSized12RowFn&>(
+    const Options&, position::PositionSolver<ViewSized12, position::NewtonAssembler>*,
+    const ModelTypes<ViewSized12>::VecQ&, const ModelTypes<ViewSized12>::VecQ&, int, const SweepOptions&,
+    const ModelTypes<ViewSized12>::VecQ*, ViewSized12RowFn&);
 }  // namespace statics
 
 // ---- Dynamics (dynamics/; instantiated in runtime/view/dynamics.cc) ----

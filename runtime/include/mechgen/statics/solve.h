@@ -240,11 +240,16 @@ double Condition(const M& model, const typename ModelTypes<M>::Params& p,
     if (C::LoopFree(model)) {
       cond = 1;
     } else if (C::CoeffsHavePhi(model)) {
-      ConditionAndDeterminantDynamic(c.Phi_phi, &cond, &det);
+      // (A map of the view's buffer: a fixed-size copy where the sizes are fixed, SizedViewModel.)
+      if constexpr (MatCPhi::RowsAtCompileTime == Eigen::Dynamic) {
+        ConditionAndDeterminantDynamic(c.Phi_phi, &cond, &det);
+      } else {
+        ConditionAndDeterminant(MatCPhi(c.Phi_phi), &cond, &det);
+      }
     } else {
       MatCPhi Phi_phi;
       C::Phi(model, p, q, phi, nullptr, &Phi_phi, nullptr);
-      ConditionAndDeterminantDynamic(Phi_phi, &cond, &det);
+      ConditionAndDeterminant(Phi_phi, &cond, &det);
     }
   } else if constexpr (ModelFeatures<M>::kCoeffsHavePhi) {
     (void)model;
