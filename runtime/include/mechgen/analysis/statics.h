@@ -183,6 +183,13 @@ std::string Check(const M& model, const StaticsRequest& request) {
   return statics_internal::Resolve(model, request, &in);
 }
 
+/// The statics of a view whose shape the runtime has an instantiation sized to
+/// (core/view_sized.h: SizedViewModel), run there, its exit status in *status; false (nothing
+/// done) for any other view, or one whose `sized` is false. In mechgen_runtime_view
+/// (runtime/view/analysis_sized.cc).
+bool RunSized(const ViewModel& model, const StaticsRequest& request, const StaticsOutputs& outputs,
+              const std::function<int()>& prepare, StaticsPlotFacts* facts, int* status);
+
 /**
  * \brief The statics sweep of `model` asked for by `request`, written to `outputs`.
  * \tparam M          A generated model with statics (the per-model tool) or mechgen::ViewModel.
@@ -194,13 +201,6 @@ std::string Check(const M& model, const StaticsRequest& request) {
  * \param facts    Filled with what the command's pictures need of the model (may be null).
  * \return The exit status (0, 1, 2, 3 the model does not assemble; see the file comment).
  */
-/// The statics of a view whose shape the runtime has an instantiation sized to
-/// (core/view_sized.h: SizedViewModel), run there, its exit status in *status; false (nothing
-/// done) for any other view, or one whose `sized` is false. In mechgen_runtime_view
-/// (runtime/view/analysis_sized.cc).
-bool RunSized(const ViewModel& model, const StaticsRequest& request, const StaticsOutputs& outputs,
-              const std::function<int()>& prepare, StaticsPlotFacts* facts, int* status);
-
 template <class M, class Assembler = position::NewtonAssembler>
 int Run(const M& model, const StaticsRequest& request, const StaticsOutputs& outputs,
         const std::function<int()>& prepare = nullptr, StaticsPlotFacts* facts = nullptr) {

@@ -238,6 +238,12 @@ std::string Check(const M& model, const SweepRequest& request) {
   return sweep_internal::Resolve(model, request, &in);
 }
 
+/// The sweep of a view whose shape the runtime has an instantiation sized to
+/// (core/view_sized.h: SizedViewModel), run there, its exit status in *status; false (nothing
+/// done) for any other view, or one whose `sized` is false. In mechgen_runtime_view
+/// (runtime/view/analysis_sized.cc).
+bool RunSized(const ViewModel& model, const SweepRequest& request, const SweepOutputs& outputs, int* status);
+
 /**
  * \brief The sweep of `model` asked for by `request`, written to `outputs`.
  * \tparam M          A generated model (the per-model tool) or mechgen::ViewModel.
@@ -246,12 +252,6 @@ std::string Check(const M& model, const SweepRequest& request) {
  * \return The exit status (kSweepConverged, kSweepRowsFailed, kSweepError, kSweepUsage after
  *         "<tool>: error: <Check's text>" on stderr).
  */
-/// The sweep of a view whose shape the runtime has an instantiation sized to
-/// (core/view_sized.h: SizedViewModel), run there, its exit status in *status; false (nothing
-/// done) for any other view, or one whose `sized` is false. In mechgen_runtime_view
-/// (runtime/view/analysis_sized.cc).
-bool RunSized(const ViewModel& model, const SweepRequest& request, const SweepOutputs& outputs, int* status);
-
 template <class M, class Assembler = position::NewtonAssembler>
 int Run(const M& model, const SweepRequest& request, const SweepOutputs& outputs) {
   if constexpr (std::is_same_v<M, ViewModel>) {
