@@ -7,10 +7,11 @@
  * arithmetic of a generated model's instantiation instead of loops of run-time length. The
  * points, reactions and friction keep the view's bounded sizes.
  *
- * mechgen_runtime_view instantiates the position solver and the statics sweep once for the
- * commonest shape of the shipped models (one input, two dependent coordinates: the four-bars and
- * slider-cranks, 14 of 27) and sends a view of that shape there (core/view_runtime.h,
- * SweepRows and StaticsSweepRows through the view); any other shape runs the ViewModel
+ * mechgen_runtime_view instantiates the position solver, the sweep and the statics sweep once
+ * for the commonest shape of the shipped models (one input, two dependent coordinates: the
+ * four-bars and slider-cranks, 14 of 27; extern in core/view_runtime.h), and analysis::Run sends
+ * the sweep and the statics of a view of that shape there (RunSized, runtime/view/
+ * analysis_sized.cc); any other shape, and every other analysis, runs the ViewModel
  * instantiation. One source, instantiated for both.
  */
 #pragma once
@@ -68,9 +69,12 @@ template <int kNqFixed, int kNphiFixed>
 struct StaticsDesignOf<SizedViewModel<kNqFixed, kNphiFixed>, true> : StaticsDesignOf<ViewModel, true> {};
 }  // namespace internal
 
-/// The view's calls at the fixed sizes: the sizes constant, and every call that takes or gives
-/// q, phi, Phi or its derivatives taking the fixed-size matrices (their storage is the view's
-/// packed column-major layout, as the bounded matrices' is). The rest is the view's.
+/// The view's calls at the fixed sizes: the sizes constant, and the calls of the continuation
+/// step and the statics (Phi, Coeffs, Solve, Forces, Stiffness, the design derivatives, ...)
+/// taking the fixed-size matrices (their storage is the view's packed column-major layout, as
+/// the bounded matrices' is). The rest is the view's: a call not listed here that takes q or phi
+/// (the scene of a drawing, the dynamics') gets them converted to the view's bounded types, a
+/// copy off the continuation step.
 template <int kNqFixed, int kNphiFixed>
 struct ModelCalls<SizedViewModel<kNqFixed, kNphiFixed>> : ModelCalls<ViewModel> {
   using M = SizedViewModel<kNqFixed, kNphiFixed>;
