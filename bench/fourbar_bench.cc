@@ -204,6 +204,51 @@ BENCHMARK_TEMPLATE(StaticsRows, mech::slider_crank_friction::Model)->Name("Stati
 BENCHMARK_TEMPLATE(StaticsRows, mechgen::ViewModel)->Name("StaticsRowsView");
 BENCHMARK_TEMPLATE(StaticsRows, mechgen::ViewSized12)->Name("StaticsRowsSized");
 
+// Where a statics row's time through the view goes (for reference, no target): one
+// statics::Solve of slider_crank_friction at its assembled configuration, fixed-size and on the
+// sized view, without motion (kWay 0: one generated evaluation, what the row's frictionless
+// solve does) and moving (kWay 1: the friction iteration, 12 evaluations here; a row does one
+// at rest and two moving, forward and backward). The difference of the first is the view's cost per
+// solve (its set-up and the reads of the evaluation's results: the reaction norm, the finite
+// check), that of the second less the first its cost per friction iteration. (Solve<ViewSized12>
+// is instantiated in this program, not taken from mechgen_runtime_view.)
+template <class Model, int kWay>
+void StaticsSolve(benchmark::State& state) {
+  using M = mech::slider_crank_friction::Model;
+  using C = mechgen::ModelCalls<Model>;
+  using T = mechgen::ModelTypes<Model>;
+  constexpr bool kView = !std::is_same_v<Model, M>;
+  const Model model = [] {
+    if constexpr (kView) {
+      return Model(mechgen::ViewModel(mech::slider_crank_friction::View()));
+    } else {
+      return M();
+    }
+  }();
+  mechgen::position::PositionSolver<Model> solver(model);
+  if (solver.AssembleDefault(nullptr) != mechgen::position::Status::kConverged) {
+    state.SkipWithError("assembly failed");
+    return;
+  }
+  const mechgen::position::State<Model>& s = solver.state();
+  typename T::Coefficients c;
+  C::Coeffs(model, solver.params(), s.q, s.phi, &c);
+  mechgen::statics::Solution<Model> solution(model);
+  const typename T::VecQ direction = T::VecQ::Constant(1, static_cast<double>(kWay));
+  const mechgen::statics::Options options;
+  mechgen::statics::Status status = mechgen::statics::Status::kNotRun;
+  for (auto _ : state) {
+    status = mechgen::statics::Solve<Model>(model, options, solver.params(), s.q, s.phi, c, direction, &solution);
+    benchmark::DoNotOptimize(solution);
+  }
+  if (status != mechgen::statics::Status::kConverged) state.SkipWithError("the statics did not converge");
+  state.counters["evaluations"] = solution.summary.iterations;
+}
+BENCHMARK_TEMPLATE(StaticsSolve, mech::slider_crank_friction::Model, 0)->Name("StaticsSolveAtRest");
+BENCHMARK_TEMPLATE(StaticsSolve, mechgen::ViewSized12, 0)->Name("StaticsSolveAtRestSized");
+BENCHMARK_TEMPLATE(StaticsSolve, mech::slider_crank_friction::Model, 1)->Name("StaticsSolveMoving");
+BENCHMARK_TEMPLATE(StaticsSolve, mechgen::ViewSized12, 1)->Name("StaticsSolveMovingSized");
+
 template <bool kView>
 void RightHandSide(benchmark::State& state) {
   using M = mech::fourbar_massive::Model;

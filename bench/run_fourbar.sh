@@ -11,7 +11,8 @@
 #   statics row as `mechgen sweep` and `mechgen statics` run these models: on the runtime
 #   sized to their shape (core/view_sized.h, one input and two dependent coordinates; *Sized);
 #   beside them, for reference, the same on the instantiation for any view (*View), which
-#   models of other shapes run.
+#   models of other shapes run, and one statics::Solve at rest and moving (StaticsSolve*): where
+#   the statics row's difference lies, per solve and per friction iteration.
 # The Ceres ratios are printed for reference (the first issue's >= 20 is no longer a target).
 # Usage: [BENCH_FILTER=<regex>] bench/run_fourbar.sh [build-dir] [repetitions]
 set -euo pipefail
@@ -64,6 +65,15 @@ for label, a, b in [("sweep step, any-shape view / fixed (fourbar)", "MechgenCon
                     ("statics row, any-shape view / fixed", "StaticsRowsView", "StaticsRows")]:
     if a in med and b in med:
         print(f"  {label:<44} = {r(a, b):6.2f}")
+# Where the statics row's difference lies: one Solve at rest (one evaluation) and one moving (the
+# friction iteration), sized view against fixed; the first difference is per solve, the second
+# less the first per iteration.
+solves = [("at rest, one evaluation", "StaticsSolveAtRestSized", "StaticsSolveAtRest"),
+          ("moving, the friction iteration", "StaticsSolveMovingSized", "StaticsSolveMoving")]
+if all(a in med and b in med for _, a, b in solves):
+    print("  where the statics row's difference lies (sized view / fixed, one statics::Solve):")
+    for label, a, b in solves:
+        print(f"    {label:<42} = {r(a, b):6.2f}   ({med[b]:.1f} -> {med[a]:.1f} {unit[a]})")
 print()
 if "CeresAutoDiffReused" not in med:
     sys.exit(0)
