@@ -163,17 +163,20 @@ BENCHMARK(MechgenContinuationSized);
 // (qd, qdd, P_nc) of fourbar_massive's minimal equations at one state.
 // Model: the generated one (fixed sizes), mechgen::ViewModel (any view) or mechgen::ViewSized12
 // (the view on the runtime sized to its shape, as `mechgen statics` runs this model).
+// slider_crank_friction as Model: the generated model's tag, or a view of it.
+template <class Model>
+Model SliderCrankFriction() {
+  if constexpr (std::is_same_v<Model, mech::slider_crank_friction::Model>) {
+    return Model();
+  } else {
+    return Model(mechgen::ViewModel(mech::slider_crank_friction::View()));
+  }
+}
 template <class Model>
 void StaticsRows(benchmark::State& state) {
   using M = mech::slider_crank_friction::Model;
   constexpr bool kView = !std::is_same_v<Model, M>;
-  const Model model = [] {
-    if constexpr (kView) {
-      return Model(mechgen::ViewModel(mech::slider_crank_friction::View()));
-    } else {
-      return M();
-    }
-  }();
+  const Model model = SliderCrankFriction<Model>();
   using T = mechgen::ModelTypes<Model>;
   mechgen::position::PositionSolver<Model> solver(model);
   if (solver.AssembleDefault(nullptr) != mechgen::position::Status::kConverged) {
@@ -214,17 +217,9 @@ BENCHMARK_TEMPLATE(StaticsRows, mechgen::ViewSized12)->Name("StaticsRowsSized");
 // is instantiated in this program, not taken from mechgen_runtime_view.)
 template <class Model, int kWay>
 void StaticsSolve(benchmark::State& state) {
-  using M = mech::slider_crank_friction::Model;
   using C = mechgen::ModelCalls<Model>;
   using T = mechgen::ModelTypes<Model>;
-  constexpr bool kView = !std::is_same_v<Model, M>;
-  const Model model = [] {
-    if constexpr (kView) {
-      return Model(mechgen::ViewModel(mech::slider_crank_friction::View()));
-    } else {
-      return M();
-    }
-  }();
+  const Model model = SliderCrankFriction<Model>();
   mechgen::position::PositionSolver<Model> solver(model);
   if (solver.AssembleDefault(nullptr) != mechgen::position::Status::kConverged) {
     state.SkipWithError("assembly failed");
