@@ -156,13 +156,6 @@ BENCHMARK(MechgenContinuationSized);
 #endif
 
 #ifdef MECHGEN_BENCH_VIEW_ANALYSES
-// A statics row and a simulation's right-hand side, fixed-size and through the view (issue 43:
-// each within 1.15x): the statics sweep of slider_crank_friction (Coulomb friction in four
-// joints; each row the position step and the statics with its friction iteration, forward and
-// backward) over its range in 360 steps, per iteration of the benchmark; the right-hand side
-// (qd, qdd, P_nc) of fourbar_massive's minimal equations at one state.
-// Model: the generated one (fixed sizes), mechgen::ViewModel (any view) or mechgen::ViewSized12
-// (the view on the runtime sized to its shape, as `mechgen statics` runs this model).
 // slider_crank_friction as Model: the generated model's tag, or a view of it.
 template <class Model>
 Model SliderCrankFriction() {
@@ -172,6 +165,14 @@ Model SliderCrankFriction() {
     return Model(mechgen::ViewModel(mech::slider_crank_friction::View()));
   }
 }
+
+// A statics row and a simulation's right-hand side, fixed-size and through the view (issue 43:
+// each within 1.15x): the statics sweep of slider_crank_friction (Coulomb friction in four
+// joints; each row the position step and the statics with its friction iteration, forward and
+// backward) over its range in 360 steps, per iteration of the benchmark; the right-hand side
+// (qd, qdd, P_nc) of fourbar_massive's minimal equations at one state.
+// Model: the generated one (fixed sizes), mechgen::ViewModel (any view) or mechgen::ViewSized12
+// (the view on the runtime sized to its shape, as `mechgen statics` runs this model).
 template <class Model>
 void StaticsRows(benchmark::State& state) {
   using M = mech::slider_crank_friction::Model;
@@ -211,10 +212,10 @@ BENCHMARK_TEMPLATE(StaticsRows, mechgen::ViewSized12)->Name("StaticsRowsSized");
 // statics::Solve of slider_crank_friction at its assembled configuration, fixed-size and on the
 // sized view, without motion (kWay 0: one generated evaluation, what the row's frictionless
 // solve does) and moving (kWay 1: the friction iteration, 12 evaluations here; a row does one
-// at rest and two moving, forward and backward). The difference of the first is the view's cost per
-// solve (its set-up and the reads of the evaluation's results: the reaction norm, the finite
-// check), that of the second less the first its cost per friction iteration. (Solve<ViewSized12>
-// is instantiated in this program, not taken from mechgen_runtime_view.)
+// at rest and two moving, forward and backward). The difference of the first is the view's
+// cost per solve (its set-up and the reads of the evaluation's results: the reaction norm, the
+// finite check), that of the second less the first its cost per friction iteration.
+// (Solve<ViewSized12> is instantiated in this program, not taken from mechgen_runtime_view.)
 template <class Model, int kWay>
 void StaticsSolve(benchmark::State& state) {
   using C = mechgen::ModelCalls<Model>;
