@@ -54,6 +54,7 @@
 #include <Eigen/Core>
 
 #include "mechgen/core/constants.h"
+#include "mechgen/core/invalid_option.h"
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
@@ -115,12 +116,8 @@ struct MinimalOptions {
 
   bool IsValid(std::string* error) const {
     if (!integrator.IsValid(error)) return false;
-    char buffer[160];
-    auto fail = [&](const char* field, double value, const char* rule) {
-      std::snprintf(buffer, sizeof(buffer), "MinimalOptions::%s = %g. Violated constraint: %s",
-                    field, value, rule);
-      if (error != nullptr) *error = buffer;
-      return false;
+    auto fail = [error](const char* field, double value, const char* rule) {
+      return InvalidOption(error, "MinimalOptions", field, value, rule);
     };
     if (!(min_rcond >= 0 && min_rcond < 1)) return fail("min_rcond", min_rcond, "0 <= min_rcond < 1");
     if (!(event_tolerance > 0)) return fail("event_tolerance", event_tolerance, "event_tolerance > 0");

@@ -50,6 +50,8 @@
 
 #include <Eigen/Core>
 
+#include "mechgen/core/invalid_option.h"
+
 namespace mechgen::dynamics {
 
 /// Why an integration (or one step) ended.
@@ -104,12 +106,8 @@ struct IntegratorOptions {
   double fac_grow = 10.0;   ///< at most a factor 10 larger per step (Hairer: 1/fac2 = 10 / 6)
 
   bool IsValid(std::string* error) const {
-    char buffer[160];
-    auto fail = [&](const char* field, double value, const char* rule) {
-      std::snprintf(buffer, sizeof(buffer), "IntegratorOptions::%s = %g. Violated constraint: %s",
-                    field, value, rule);
-      if (error != nullptr) *error = buffer;
-      return false;
+    auto fail = [error](const char* field, double value, const char* rule) {
+      return InvalidOption(error, "IntegratorOptions", field, value, rule);
     };
     if (!(rtol >= 0) || !std::isfinite(rtol)) return fail("rtol", rtol, "0 <= rtol < inf");
     if (!(atol >= 0) || !std::isfinite(atol)) return fail("atol", atol, "0 <= atol < inf");

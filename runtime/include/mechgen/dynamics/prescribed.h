@@ -78,6 +78,7 @@
 #include <Eigen/Core>
 
 #include "mechgen/core/constants.h"
+#include "mechgen/core/invalid_option.h"
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/forward.h"
@@ -355,12 +356,8 @@ struct PrescribedOptions {
         *error = "PrescribedOptions::coulomb invalid: max_iterations >= 2, 0 < tolerance < 1e-3";
       return false;
     }
-    char buffer[160];
-    auto fail = [&](const char* field, double value, const char* rule) {
-      std::snprintf(buffer, sizeof(buffer), "PrescribedOptions::%s = %g. Violated constraint: %s",
-                    field, value, rule);
-      if (error != nullptr) *error = buffer;
-      return false;
+    auto fail = [error](const char* field, double value, const char* rule) {
+      return InvalidOption(error, "PrescribedOptions", field, value, rule);
     };
     if (!(min_rcond >= 0 && min_rcond < 1)) return fail("min_rcond", min_rcond, "0 <= min_rcond < 1");
     if (!(event_tolerance > 0)) return fail("event_tolerance", event_tolerance, "event_tolerance > 0");

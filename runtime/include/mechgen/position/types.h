@@ -20,6 +20,7 @@
 #include <string>
 
 #include "mechgen/core/constants.h"
+#include "mechgen/core/invalid_option.h"
 
 namespace mechgen::position {
 
@@ -180,12 +181,8 @@ struct Options {
   /// Checks every field; on failure writes "Options::field = value. Violated constraint: ..."
   /// to *error (if not nullptr) and returns false.
   bool IsValid(std::string* error) const {
-    char buffer[160];
-    auto fail = [&](const char* field, double value, const char* rule) {
-      std::snprintf(buffer, sizeof(buffer), "Options::%s = %g. Violated constraint: %s", field,
-                    value, rule);
-      if (error != nullptr) *error = buffer;
-      return false;
+    auto fail = [error](const char* field, double value, const char* rule) {
+      return InvalidOption(error, "Options", field, value, rule);
     };
     if (!(tolerance > 0) || !std::isfinite(tolerance))
       return fail("tolerance", tolerance, "0 < tolerance < inf");

@@ -22,6 +22,7 @@
 #include <limits>
 #include <string>
 
+#include "mechgen/core/invalid_option.h"
 #include "mechgen/position/types.h"
 
 namespace mechgen::statics {
@@ -96,12 +97,8 @@ struct Options {
   /// Checks every field; on failure writes "Options::field = value. Violated constraint: ..."
   /// to *error (if not nullptr) and returns false.
   bool IsValid(std::string* error) const {
-    char buffer[160];
-    auto fail = [&](const char* field, double value, const char* rule) {
-      std::snprintf(buffer, sizeof(buffer), "Options::%s = %g. Violated constraint: %s", field,
-                    value, rule);
-      if (error != nullptr) *error = buffer;
-      return false;
+    auto fail = [error](const char* field, double value, const char* rule) {
+      return InvalidOption(error, "Options", field, value, rule);
     };
     if (!(max_condition >= 1))
       return fail("max_condition", max_condition, "max_condition >= 1");
@@ -169,12 +166,8 @@ struct ScanOptions {
   int max_refinements = 100;
 
   bool IsValid(std::string* error) const {
-    char buffer[160];
-    auto fail = [&](const char* field, double value, const char* rule) {
-      std::snprintf(buffer, sizeof(buffer), "ScanOptions::%s = %g. Violated constraint: %s",
-                    field, value, rule);
-      if (error != nullptr) *error = buffer;
-      return false;
+    auto fail = [error](const char* field, double value, const char* rule) {
+      return InvalidOption(error, "ScanOptions", field, value, rule);
     };
     if (samples < kMinSamples) return fail("samples", samples, "samples >= kMinSamples = 36");
     if (!(tolerance > 0) || !std::isfinite(tolerance))
