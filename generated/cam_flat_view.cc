@@ -24,10 +24,12 @@ namespace {
 
 // ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
 using mechgen::view_buffers::At;
+using mechgen::view_buffers::Finite;
 using mechgen::view_buffers::Flat;
 using mechgen::view_buffers::Get;
 using mechgen::view_buffers::GetUnlessStored;
 using mechgen::view_buffers::InPlace;
+using mechgen::view_buffers::MaxAbs;
 using mechgen::view_buffers::Member;
 using mechgen::view_buffers::Put;
 using mechgen::view_buffers::SizeOf;
@@ -412,6 +414,7 @@ void FlatCamProfile(const double* p,
   if (r != nullptr) Put(r_, r);
 }
 
+
 // ---- Constants the view points to that the header has in another shape ----
 constexpr std::array<const char*, 3> kViewJointNames{ "O", "A", "contact" };
 constexpr std::array<const char*, 0> kViewLoadNames{  };
@@ -529,6 +532,7 @@ constexpr mechgen::ModelView MakeView() {
     v.Scene = &FlatScene<>;
     v.Drawing = &FlatDrawing<>;
     v.CamProfile = &FlatCamProfile<>;
+
   }
   return v;
 }

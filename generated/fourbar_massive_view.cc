@@ -24,10 +24,12 @@ namespace {
 
 // ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
 using mechgen::view_buffers::At;
+using mechgen::view_buffers::Finite;
 using mechgen::view_buffers::Flat;
 using mechgen::view_buffers::Get;
 using mechgen::view_buffers::GetUnlessStored;
 using mechgen::view_buffers::InPlace;
+using mechgen::view_buffers::MaxAbs;
 using mechgen::view_buffers::Member;
 using mechgen::view_buffers::Put;
 using mechgen::view_buffers::SizeOf;
@@ -1464,6 +1466,35 @@ void FlatDrawing(const double* p,
   if (values != nullptr) Put(values_, values);
 }
 
+// The reads statics::Solve makes of what Forces wrote (ModelView::StaticsChecks), on the members
+// at their fixed sizes: whether every value statics::internal::AllFinite reads is finite
+// (Q, drive, V, dV_dq, R), and max_i |R_i| into *reaction_norm where that is not nullptr.
+template <int = 0>
+bool FlatStaticsChecks(const double* statics, double* reaction_norm) {
+  if (reaction_norm != nullptr)
+    *reaction_norm = MaxAbs<decltype(Statics<double>::R)>(statics + kStaticsMembers[6].offset);
+  return Finite<decltype(Statics<double>::Q)>(statics + kStaticsMembers[0].offset) &&
+         Finite<decltype(Statics<double>::drive)>(statics + kStaticsMembers[1].offset) &&
+         Finite<decltype(Statics<double>::V)>(statics + kStaticsMembers[3].offset) &&
+         Finite<decltype(Statics<double>::dV_dq)>(statics + kStaticsMembers[4].offset) &&
+         Finite<decltype(Statics<double>::R)>(statics + kStaticsMembers[6].offset);
+}
+
+// Forces, then StaticsChecks of what it wrote, in one call (ModelView::ForcesChecked).
+template <int = 0>
+bool FlatForcesChecked(const double* p,
+                       const double* q,
+                       const double* phi,
+                       const double* c,
+                       double* out,
+                       const double* friction,
+                       const double* trig,
+                       const double* velocities,
+                       double* reaction_norm) {
+  FlatForces<>(p, q, phi, c, out, friction, trig, velocities);
+  return FlatStaticsChecks<>(out, reaction_norm);
+}
+
 // ---- Constants the view points to that the header has in another shape ----
 constexpr std::array<const char*, 4> kViewJointNames{ "A", "B", "C", "D" };
 constexpr std::array<const char*, 0> kViewLoadNames{  };
@@ -1625,6 +1656,8 @@ constexpr mechgen::ModelView MakeView() {
     v.Scene = &FlatScene<>;
     v.AppliedLoads = &FlatAppliedLoads<>;
     v.Drawing = &FlatDrawing<>;
+    v.StaticsChecks = &FlatStaticsChecks<>;
+    v.ForcesChecked = &FlatForcesChecked<>;
   }
   return v;
 }

@@ -24,10 +24,12 @@ namespace {
 
 // ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
 using mechgen::view_buffers::At;
+using mechgen::view_buffers::Finite;
 using mechgen::view_buffers::Flat;
 using mechgen::view_buffers::Get;
 using mechgen::view_buffers::GetUnlessStored;
 using mechgen::view_buffers::InPlace;
+using mechgen::view_buffers::MaxAbs;
 using mechgen::view_buffers::Member;
 using mechgen::view_buffers::Put;
 using mechgen::view_buffers::SizeOf;
@@ -673,6 +675,7 @@ void FlatDrawing(const double* p,
   if (values != nullptr) Put(values_, values);
 }
 
+
 // ---- Constants the view points to that the header has in another shape ----
 constexpr std::array<const char*, 4> kViewJointNames{ "A", "B", "C", "D" };
 constexpr std::array<const char*, 0> kViewLoadNames{  };
@@ -805,6 +808,7 @@ constexpr mechgen::ModelView MakeView() {
     v.Kinematics = &FlatKinematics<>;
     v.Scene = &FlatScene<>;
     v.Drawing = &FlatDrawing<>;
+
   }
   return v;
 }

@@ -989,6 +989,43 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.SetData("view_functions", view_functions,
                {"member", "returns", "indent", "args", "arg_type", "arg_name", "first", "lines", "line",
                 "has_copied", "copied_args", "copied_indent", "copied_lines"});
+  // ModelView::StaticsChecks (and ForcesChecked: Forces, then those checks): the statics' reads
+  // of what Forces wrote, on the generated struct. Finite: the members statics::internal::
+  // AllFinite reads (runtime/include/mechgen/statics/solve.h), each where the model's Statics
+  // has it, in its order; the runtime's rule stated again here, and
+  // tests/kinematics/model_view_test.cc checks on every shipped model that the two agree (a NaN
+  // and an infinity in each entry in turn).
+  bool has_forces = false;
+  for (size_t i = 0; i < functions.size(); ++i)
+    has_forces = has_forces || (functions[i].model_member == "Forces" && functions[i].in_view);
+  const auto statics_struct = struct_members.find("Statics");
+  auto statics_index = [&](const std::string& name) {
+    if (statics_struct == struct_members.end()) return -1;
+    const std::vector<std::string>& members = statics_struct->second;
+    const auto it = std::find(members.begin(), members.end(), name);
+    return it != members.end() ? static_cast<int>(it - members.begin()) : -1;
+  };
+  const bool potential = statics_index("V") >= 0 && statics_index("dV_dq") >= 0;
+  std::vector<std::string> checked_names;
+  for (const char* name : {"Q", "drive", "V", "dV_dq", "R", "normal"}) {
+    const bool potential_member = std::string(name) == "V" || std::string(name) == "dV_dq";
+    if (statics_index(name) >= 0 && (potential || !potential_member)) checked_names.push_back(name);
+  }
+  mus::data forces_checked{mus::data::type::list};
+  for (size_t i = 0; i < checked_names.size(); ++i) {
+    mus::data o{mus::data::type::object};
+    o.set("member_name", checked_names[i]);
+    o.set("index", std::to_string(statics_index(checked_names[i])));
+    o.set("first", Bool(i == 0));
+    o.set("last", Bool(i + 1 == checked_names.size()));
+    forces_checked.push_back(o);
+  }
+  data.SetData("forces_checked", forces_checked, {"member_name", "index", "first", "last"});
+  has_forces = has_forces && !checked_names.empty();
+  data.Set("has_forces_checked", has_forces);
+  data.Set("forces_checked_names", Join(checked_names, [](const std::string& n) { return n; }));
+  data.Set("has_reaction_norm", has_forces && statics_index("R") >= 0 && !statics.reactions.empty());
+  data.Set("reaction_index", statics_index("R"));
   std::vector<std::map<std::string, std::string>> view_params, view_derived;
   CxxPrinter flat;  // the parameters as the view's flat array p[i]
   for (size_t i = 0; i < m.params.size(); ++i) {

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <set>
 #include <string>
 #include <type_traits>
@@ -22,6 +23,7 @@
 #define MECHTEST_MODEL_VIEWS
 #include "all_models.h"
 #include "kinematics_test_util.h"
+#include "mechgen/statics/solve.h"
 
 namespace {
 
@@ -134,6 +136,23 @@ void ExpectMember(const ViewLayout& layout,
   const Eigen::Matrix<double, static_cast<int>(N), 1> m =
       Eigen::Map<const Eigen::Matrix<double, static_cast<int>(N), 1>>(value.data());
   ExpectMember(layout, flat, name, m);
+}
+// The member `name` of a view struct's buffer `flat` into the fixed-size struct's member `value`
+// (found by name).
+template <int R, int C, int O, int MR, int MC>
+void GetMember(const ViewLayout& layout,
+               const std::vector<double>& flat,
+               const char* name,
+               Eigen::Matrix<double, R, C, O, MR, MC>* value) {
+  const mechgen::ViewMember* m = mechgen::FindMember(layout, name);
+  ASSERT_NE(m, nullptr) << layout.name << " has no member " << name;
+  ASSERT_EQ(m->rows * m->cols, R * C) << layout.name << "::" << name;
+  for (int i = 0; i < R * C; ++i) value->data()[i] = flat[static_cast<size_t>(m->offset + i)];
+}
+void GetMember(const ViewLayout& layout, const std::vector<double>& flat, const char* name, double* value) {
+  const mechgen::ViewMember* m = mechgen::FindMember(layout, name);
+  ASSERT_NE(m, nullptr) << layout.name << " has no member " << name;
+  *value = flat[static_cast<size_t>(m->offset)];
 }
 // A plain array (an argument, not a struct) against a fixed-size matrix.
 template <class Derived>
@@ -918,6 +937,93 @@ TYPED_TEST(ModelViewTest, EveryFunctionGivesTheFixedSizeFunctionsOutputsToTheBit
     for (int i = 0; i < l.num_members; ++i)
       EXPECT_EQ(Compared().count({l.name, l.members[i].name}), 1u)
           << l.name << "::" << l.members[i].name << " was not compared";
+}
+
+// ModelView::StaticsChecks states the rule of the fixed-size statics' checks again, in the
+// generated code (codegen/emit.cc): which members statics::internal::AllFinite reads, and max |R|
+// (statics::Solve's reaction_norm). On the buffer Forces fills at the assembly, with a NaN, then
+// +inf, then -inf put in each entry in turn, the view's verdict and max |R| are those of the
+// fixed-size path's own checks (statics::internal::AllFinite and MaxAbs on the generated struct
+// holding the same entries), to the bit; and ForcesChecked writes what Forces writes and returns
+// StaticsChecks of it.
+TYPED_TEST(ModelViewTest, StaticsChecksAreTheFixedSizeStaticsChecks) {
+  using M = TypeParam;
+  const ModelView& v = ViewOfModel<M>();
+  EXPECT_EQ(v.StaticsChecks != nullptr, v.Forces != nullptr);
+  EXPECT_EQ(v.ForcesChecked != nullptr, v.Forces != nullptr);
+  if constexpr (M::kHasStatics) {
+    ASSERT_NE(v.ForcesChecked, nullptr);
+    using S = typename M::template StaticsT<double>;
+    std::vector<double> p;
+    mechtest::ParamsD<M> params;
+    Parameters<M>(v, 0.0, &p, &params);
+    bool ok = false;
+    const mechtest::Config<M> config = mechtest::SolvedAssembly<M>(params, &ok);
+    ASSERT_TRUE(ok);
+    const std::vector<double> q(config.q.data(), config.q.data() + M::kNq);
+    const std::vector<double> phi(config.phi.data(), config.phi.data() + M::kNphi);
+    const std::vector<double> qd(static_cast<size_t>(M::kNq), 0.625);
+    const std::vector<double> friction(static_cast<size_t>(v.num_friction), 0.375);
+    const double* const f = v.num_friction > 0 ? friction.data() : nullptr;
+    std::vector<double> c = Buffer(v, ViewStruct::kCoefficients, kFill);
+    v.Coeffs(p.data(), q.data(), phi.data(), c.data(), nullptr);
+    std::vector<double> forces = Buffer(v, ViewStruct::kStatics, kFill), checked = forces;
+    v.Forces(p.data(), q.data(), phi.data(), c.data(), forces.data(), f, nullptr, qd.data());
+    double norm = kFill, norm_alone = kFill;
+    const bool finite =
+        v.ForcesChecked(p.data(), q.data(), phi.data(), c.data(), checked.data(), f, nullptr, qd.data(), &norm);
+    for (size_t i = 0; i < forces.size(); ++i) EXPECT_EQ(Bits(checked[i]), Bits(forces[i])) << "ForcesChecked [" << i << "]";
+    EXPECT_TRUE(finite) << "the statics at the assembly";
+    EXPECT_EQ(v.StaticsChecks(forces.data(), &norm_alone), finite);
+    EXPECT_EQ(Bits(norm), Bits(norm_alone));
+    EXPECT_TRUE(v.StaticsChecks(forces.data(), nullptr));
+
+    // The fixed-size path's checks of the struct holding the buffer's entries.
+    const ViewLayout& l = v.Layout(ViewStruct::kStatics);
+    auto fixed = [&l](const std::vector<double>& flat, double* reaction_norm) {
+      S s = Filled<M, S>();
+      if constexpr (M::kHasStaticsQ) {
+        GetMember(l, flat, "Q", &s.Q);
+        GetMember(l, flat, "drive", &s.drive);
+      }
+      if constexpr (M::kHasStaticsStiffness) GetMember(l, flat, "stiffness", &s.stiffness);
+      if constexpr (M::kHasStaticsV) {
+        GetMember(l, flat, "V", &s.V);
+        GetMember(l, flat, "dV_dq", &s.dV_dq);
+      }
+      if constexpr (M::kHasStaticsD2V) GetMember(l, flat, "d2V_dq2", &s.d2V_dq2);
+      if constexpr (M::kHasStaticsR) GetMember(l, flat, "R", &s.R);
+      if constexpr (M::kHasStaticsFriction) {
+        GetMember(l, flat, "normal", &s.normal);
+        GetMember(l, flat, "gain", &s.gain);
+        GetMember(l, flat, "K_rel", &s.K_rel);
+      }
+      *reaction_norm = kFill;  // (statics::Solve: written with reactions only)
+      if constexpr (mechgen::statics::StaticsFeatures<M>::kHasReactions)
+        if (mechgen::ModelCalls<M>::HasReactions(M())) *reaction_norm = mechgen::statics::internal::MaxAbs(s.R);
+      return mechgen::statics::internal::AllFinite<M>(M(), s);
+    };
+    double norm_fixed = 0;
+    EXPECT_TRUE(fixed(forces, &norm_fixed));
+    EXPECT_EQ(Bits(norm_alone), Bits(norm_fixed));
+    int rejected = 0;
+    for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                       -std::numeric_limits<double>::infinity()}) {
+      for (size_t i = 0; i < forces.size(); ++i) {
+        std::vector<double> b = forces;
+        b[i] = bad;
+        double norm_view = kFill;
+        const bool expected = fixed(b, &norm_fixed);
+        const bool got = v.StaticsChecks(b.data(), &norm_view);
+        EXPECT_EQ(got, expected) << "entry " << i << " = " << bad;
+        EXPECT_EQ(Bits(norm_view), Bits(norm_fixed)) << "entry " << i << " = " << bad << ": view " << norm_view
+                                                     << ", fixed " << norm_fixed;
+        rejected += got ? 0 : 1;
+      }
+    }
+    // (At least Q and drive, three times: a check that rejects something.)
+    EXPECT_GE(rejected, 3 * 2 * M::kNq);
+  }
 }
 
 // A struct's buffer aligned for the struct is taken as the struct itself (view_buffers.h,

@@ -48,7 +48,7 @@ namespace mechgen {
 
 /// Changes whenever ModelView's layout does: a view compiled against another layout is refused
 /// (ModelView::layout, ModelView::size).
-inline constexpr int kModelViewLayout = 3;
+inline constexpr int kModelViewLayout = 4;
 
 /// The C entry point of a model compiled with MECHGEN_VIEW_ENTRY (one fixed name: one model per
 /// shared object; statically linked models are reached through mech::<name>::View()).
@@ -324,6 +324,18 @@ struct ModelView {
   /// velocity (statics_at_speed) are taken; a model with none ignores it.
   void (*Forces)(const double* p, const double* q, const double* phi, const double* c, double* out,
                  const double* friction, const double* trig, const double* velocities) = nullptr;
+  /// The reads statics::Solve makes of a Statics buffer `statics` after Forces, on the
+  /// generated struct's fixed sizes (straight-line code, as a generated model's own statics
+  /// make them): returns whether every value statics::internal::AllFinite reads is finite (Q,
+  /// drive; V and dV_dq with the potential; R; normal: what Forces fills), and writes max_i |R_i|
+  /// (the fixed-size R's cwiseAbs().maxCoeff()) into *reaction_norm where that is not nullptr
+  /// and the model has reactions. With Forces.
+  bool (*StaticsChecks)(const double* statics, double* reaction_norm) = nullptr;
+  /// Forces, then StaticsChecks of what it wrote, in one call (statics::Solve after each
+  /// evaluation). With Forces.
+  bool (*ForcesChecked)(const double* p, const double* q, const double* phi, const double* c, double* out,
+                        const double* friction, const double* trig, const double* velocities,
+                        double* reaction_norm) = nullptr;
   void (*Stiffness)(const double* p, const double* q, const double* phi, const double* c, double* out) = nullptr;
   void (*Dynamics)(const double* p, const double* q, const double* phi, const double* qd, double t, const double* c,
                    double* out, const double* friction, const double* trig) = nullptr;

@@ -9,8 +9,10 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include <Eigen/Core>
 
@@ -106,6 +108,25 @@ void ZeroUnlessStored(X* x) {
   } else {
     (void)x;
   }
+}
+
+// The reads statics::Solve makes of a member of Statics after Forces (ModelView::ForcesChecked),
+// at the member's fixed size, as the generated model's own statics make them
+// (statics::internal::AllFinite and MaxAbs on the fixed-size types): whether every entry at b is
+// finite, and max_i |x_i| (on a copy of the fixed-size type, so that Eigen's reduction takes
+// the entries in the same order, NaN included).
+template <class X>
+bool Finite(const double* b) {
+  if constexpr (std::is_same_v<X, double>) {
+    return std::isfinite(*b);
+  } else {
+    return Eigen::Map<const X>(b).allFinite();
+  }
+}
+template <class X>
+double MaxAbs(const double* b) {
+  const X x = Eigen::Map<const X>(b);
+  return x.cwiseAbs().maxCoeff();
 }
 
 // A struct on the caller's storage: the buffer b is taken as the struct S itself where S lies
