@@ -121,7 +121,8 @@ struct ViewModel {
     h.coeffs_phi = v.flags.kHasCoeffsPhi;
     h.solve = v.flags.kHasSolve && v.Solve != nullptr;
     h.trig = h.solve && v.flags.kHasTrig;
-    h.statics = v.flags.kHasStatics && v.flags.kHasStaticsQ && v.Forces != nullptr;
+    h.statics = v.flags.kHasStatics && v.flags.kHasStaticsQ && v.Forces != nullptr && v.StaticsChecks != nullptr &&
+                v.ForcesChecked != nullptr;
     h.num_reactions = h.statics && v.flags.kHasStaticsR ? v.num_reactions : 0;
     h.num_friction = h.statics && v.flags.kHasStaticsFriction ? v.num_friction : 0;
     h.solve_trig = h.trig && v.flags.kHasSolveTrig && v.SolveTrig != nullptr;
@@ -141,18 +142,9 @@ struct ViewModel {
     int Q = -1, drive = -1, V = -1, dV_dq = -1, d2V_dq2 = -1, stiffness = -1, R = -1, normal = -1, gain = -1,
         K_rel = -1;
     int size = 0;
-    /// The entries of the buffer that statics::internal::AllFinite checks (Q, drive, V and
-    /// dV_dq with the potential, R, normal: what Forces fills), as runs of adjacent entries
-    /// (members next to each other in the struct merged; the padding between two is not in a
-    /// run): the check is then one loop per run, not one per member.
-    struct Run {
-      int offset = 0, size = 0;
-    };
-    std::array<Run, 6> finite{};
-    int num_finite = 0;
   };
-  StaticsLayout statics = StaticsLayoutOf(*view, have);
-  static StaticsLayout StaticsLayoutOf(const ModelView& v, const Have& h) {
+  StaticsLayout statics = StaticsLayoutOf(*view);
+  static StaticsLayout StaticsLayoutOf(const ModelView& v) {
     const ViewLayout& s = v.Layout(ViewStruct::kStatics);
     auto offset = [&s](const char* name) {
       const ViewMember* m = FindMember(s, name);
@@ -170,37 +162,6 @@ struct ViewModel {
     l.gain = offset("gain");
     l.K_rel = offset("K_rel");
     l.size = s.size;
-    // The members AllFinite reads, at the sizes ModelCalls<ViewModel>::PlaceStatics maps them
-    // (HasPotential: V and dV_dq), in the order of their offsets, adjacent ones merged.
-    const bool potential = h.statics && l.V >= 0 && l.dV_dq >= 0;
-    std::array<StaticsLayout::Run, 6> runs{};
-    int n = 0;
-    auto add = [&runs, &n](int at, int size) {
-      if (at >= 0 && size > 0) runs[static_cast<size_t>(n++)] = {at, size};
-    };
-    add(l.Q, h.nq);
-    add(l.drive, h.nq);
-    if (potential) {
-      add(l.V, 1);
-      add(l.dV_dq, h.nq);
-    }
-    add(l.R, h.num_reactions);
-    add(l.normal, h.num_friction);
-    // By offset: an insertion sort of at most six (std::sort, inlined at -O2, drew GCC 12's
-    // -Warray-bounds on its unrolled 16-element insertion pass).
-    for (int i = 1; i < n; ++i) {
-      for (int j = i; j > 0 && runs[static_cast<size_t>(j)].offset < runs[static_cast<size_t>(j - 1)].offset; --j)
-        std::swap(runs[static_cast<size_t>(j)], runs[static_cast<size_t>(j - 1)]);
-    }
-    for (int i = 0; i < n; ++i) {
-      if (l.num_finite > 0 && l.finite[static_cast<size_t>(l.num_finite - 1)].offset +
-                                      l.finite[static_cast<size_t>(l.num_finite - 1)].size ==
-                                  runs[static_cast<size_t>(i)].offset) {
-        l.finite[static_cast<size_t>(l.num_finite - 1)].size += runs[static_cast<size_t>(i)].size;
-      } else {
-        l.finite[static_cast<size_t>(l.num_finite++)] = runs[static_cast<size_t>(i)];
-      }
-    }
     return l;
   }
 
@@ -711,30 +672,11 @@ struct ModelCalls<ViewModel> {
     vec(&s->gain, l.gain, nf);
     mat(&s->K_rel, l.K_rel, nf, nq);
   }
-  /// statics::internal::AllFinite of *s placed on this view's layout: every entry that Forces
-  /// fills (ViewModel::StaticsLayout::finite) finite. One pass over the runs of adjacent
-  /// entries, inline (a friction iteration checks it after every evaluation): x - x is 0
-  /// exactly for a finite x and NaN otherwise, so the sums are 0 exactly when every entry is
-  /// finite (internal::AllFinite's test; four sums, which the compiler pairs into vector
-  /// operations, without a call and a loop set-up per run).
-  MECHGEN_ALWAYS_INLINE static bool StaticsFinite(const M& m, const T::Statics& s) {
-    const double* const b = s.buffer.data();
-    double z0 = 0, z1 = 0, z2 = 0, z3 = 0;
-    const int runs = m.statics.num_finite;
-    for (int k = 0; k < runs; ++k) {
-      const ViewModel::StaticsLayout::Run& r = m.statics.finite[static_cast<size_t>(k)];
-      const double* const x = b + r.offset;
-      const int n = r.size;
-      int i = 0;
-      for (; i + 4 <= n; i += 4) {
-        z0 += x[i] - x[i];
-        z1 += x[i + 1] - x[i + 1];
-        z2 += x[i + 2] - x[i + 2];
-        z3 += x[i + 3] - x[i + 3];
-      }
-      for (; i < n; ++i) z0 += x[i] - x[i];
-    }
-    return (z0 + z1) + (z2 + z3) == 0;
+  /// statics::internal::AllFinite of *s placed on this view's layout, and max |R| into
+  /// *reaction_norm where that is not nullptr (and the model has reactions): the view's
+  /// StaticsChecks, the generated struct's own reads at its fixed sizes.
+  static bool StaticsChecks(const M& m, const T::Statics& s, double* reaction_norm) {
+    return m.view->StaticsChecks(s.buffer.data(), reaction_norm);
   }
   /// Model::Forces through the view, into *out's buffer (placed on this view first where it is
   /// not yet, SetNaNStatics): the view's function reads what it does not write, which keeps its
@@ -749,6 +691,22 @@ struct ModelCalls<ViewModel> {
                          const T::Coefficients& c, T::Statics* out, const double* f, const double* qd) {
     if (out->view != m.view) SetNaNStatics(m, out);
     m.view->Forces(p.data(), q, phi, c.buffer.data(), out->buffer.data(), HasFriction(m) ? f : nullptr, nullptr, qd);
+  }
+  /// Forces, then StaticsChecks of what it wrote, in the view's one call (ForcesChecked: the
+  /// reads wait on the evaluation's results inside the generated code, as a generated model's
+  /// own statics do). Returns statics::internal::AllFinite of *out.
+  static bool ForcesChecked(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                            const T::Coefficients& c, T::Statics* out, const T::VecF* f, const T::VecQ* qd,
+                            double* reaction_norm) {
+    return ForcesCheckedFlat(m, p, q.data(), phi.data(), c, out, f != nullptr ? f->data() : nullptr,
+                             qd != nullptr ? qd->data() : nullptr, reaction_norm);
+  }
+  static bool ForcesCheckedFlat(const M& m, const ViewParams& p, const double* q, const double* phi,
+                                const T::Coefficients& c, T::Statics* out, const double* f, const double* qd,
+                                double* reaction_norm) {
+    if (out->view != m.view) SetNaNStatics(m, out);
+    return m.view->ForcesChecked(p.data(), q, phi, c.buffer.data(), out->buffer.data(), HasFriction(m) ? f : nullptr,
+                                 nullptr, qd, reaction_norm);
   }
   /// The coefficients from a position::State (Phi_phi, K, L and the points; Phi 0) into c's
   /// buffer and its maps, as Coeffs sets them (ModelCalls<M>::StaticsCoefficients).

@@ -70,11 +70,11 @@ struct StaticsDesignOf<SizedViewModel<kNqFixed, kNphiFixed>, true> : StaticsDesi
 }  // namespace internal
 
 /// The view's calls at the fixed sizes: the sizes constant, and the calls of the continuation
-/// step and the statics (Phi, Coeffs, Solve, Forces, Stiffness, the design derivatives, ...)
-/// taking the fixed-size matrices (their storage is the view's packed column-major layout, as
-/// the bounded matrices' is). The rest is the view's: a call not listed here that takes q or phi
-/// (the scene of a drawing, the dynamics') gets them converted to the view's bounded types, a
-/// copy off the continuation step.
+/// step and the statics (Phi, Coeffs, Solve, Forces, ForcesChecked, Stiffness, the design
+/// derivatives, ...) taking the fixed-size matrices (their storage is the view's packed
+/// column-major layout, as the bounded matrices' is). The rest is the view's: a call not listed
+/// here that takes q or phi (the scene of a drawing, the dynamics') gets them converted to the
+/// view's bounded types, a copy off the continuation step.
 template <int kNqFixed, int kNphiFixed>
 struct ModelCalls<SizedViewModel<kNqFixed, kNphiFixed>> : ModelCalls<ViewModel> {
   using M = SizedViewModel<kNqFixed, kNphiFixed>;
@@ -122,6 +122,13 @@ struct ModelCalls<SizedViewModel<kNqFixed, kNphiFixed>> : ModelCalls<ViewModel> 
                      const typename T::VecQ* qd) {
     ForcesFlat(m, p, q.data(), phi.data(), c, out, f != nullptr ? f->data() : nullptr,
                qd != nullptr ? qd->data() : nullptr);
+  }
+  static bool ForcesChecked(const M& m, const ViewParams& p, const typename T::VecQ& q,
+                            const typename T::VecPhi& phi, const typename T::Coefficients& c,
+                            typename T::Statics* out, const typename T::VecF* f, const typename T::VecQ* qd,
+                            double* reaction_norm) {
+    return ForcesCheckedFlat(m, p, q.data(), phi.data(), c, out, f != nullptr ? f->data() : nullptr,
+                             qd != nullptr ? qd->data() : nullptr, reaction_norm);
   }
   static void Stiffness(const M& m, const ViewParams& p, const typename T::VecQ& q, const typename T::VecPhi& phi,
                         const typename T::Coefficients& c, typename T::Statics* out) {

@@ -177,13 +177,15 @@ void SetNaN(const M& model, typename StaticsTypes<M>::Statics* s) {
 }
 
 /// Every value Model::Forces fills is finite (NaN and inf are not); stiffness and d2V_dq2
-/// (Model::Stiffness) are not checked.
+/// (Model::Stiffness) are not checked. (The view's generated code states the same rule again:
+/// ModelView::StaticsChecks, codegen/emit.cc; tests/kinematics/model_view_test.cc checks on
+/// every shipped model that the two agree.)
 template <class M>
 bool AllFinite(const M& model, const typename StaticsTypes<M>::Statics& s) {
   using F = StaticsFeatures<M>;
   if constexpr (ModelCalls<M>::kView) {
-    // (The same entries, each run of adjacent ones in one loop: s is on the view's layout.)
-    if (s.view == model.view) return ModelCalls<M>::StaticsFinite(model, s);
+    // (s on the view's layout: the generated struct's own reads at its fixed sizes.)
+    if (s.view == model.view) return ModelCalls<M>::StaticsChecks(model, s, nullptr);
   }
   using ::mechgen::internal::Finite;  // (allFinite(); for the view without Eigen's reductions)
   bool finite = Finite(s.Q) && Finite(s.drive);
@@ -335,16 +337,23 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
 
   // The frictionless evaluation: the answer without friction, the start of the iteration
   // with it, and the figure |R| that a singular configuration reports.
-  internal::Evaluate<M>(model, p, q, phi, c, nullptr, &out->statics, velocities);
-  s.iterations = 1;
-  if constexpr (F::kHasReactions)
-    if (C::HasReactions(model)) s.reaction_norm = internal::MaxAbs(out->statics.R);
-  if (!(s.condition <= options.max_condition)) {
-    return finish(Status::kSingular, "cond_1(Phi_phi) > Options::max_condition (a dead point)",
-                  true);
-  }
-  if (!internal::AllFinite<M>(model, out->statics)) {
-    return finish(Status::kSingular, "a generated value is not finite", true);
+  constexpr const char* kDeadPoint = "cond_1(Phi_phi) > Options::max_condition (a dead point)";
+  constexpr const char* kNotFinite = "a generated value is not finite";
+  if constexpr (C::kView) {
+    // Forces and the reads of its results (AllFinite, max |R|) in the view's one call, on the
+    // generated struct's fixed sizes, as the generated model's code below makes them.
+    const bool finite = C::ForcesChecked(model, p, q, phi, c, &out->statics, nullptr, velocities,
+                                         C::HasReactions(model) ? &s.reaction_norm : nullptr);
+    s.iterations = 1;
+    if (!(s.condition <= options.max_condition)) return finish(Status::kSingular, kDeadPoint, true);
+    if (!finite) return finish(Status::kSingular, kNotFinite, true);
+  } else {
+    internal::Evaluate<M>(model, p, q, phi, c, nullptr, &out->statics, velocities);
+    s.iterations = 1;
+    if constexpr (F::kHasReactions)
+      if (C::HasReactions(model)) s.reaction_norm = internal::MaxAbs(out->statics.R);
+    if (!(s.condition <= options.max_condition)) return finish(Status::kSingular, kDeadPoint, true);
+    if (!internal::AllFinite<M>(model, out->statics)) return finish(Status::kSingular, kNotFinite, true);
   }
   s.last_change = 0;
   if constexpr (F::kHasFriction) {
@@ -379,7 +388,9 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
       ::mechgen::internal::CopyEntries(drive, nq, drive_prev.data());
       for (int k = 1; k < options.max_friction_iterations; ++k) {
         for (int J = 0; J < nf; ++J) f[J] = -(gain[J] * normal[J]) * sign_of[J];
-        internal::Evaluate<M>(model, p, q, phi, c, &out->friction, &out->statics, velocities);
+        // (Forces and internal::AllFinite of what it wrote in the view's one call.)
+        const bool statics_finite =
+            C::ForcesChecked(model, p, q, phi, c, &out->statics, &out->friction, velocities, nullptr);
         ++s.iterations;
         // Finite(f), max |f - f_prev| and max |f| in one loop (f_prev is finite: the last
         // iteration's f, or 0); the maxima of the finite values that the convergence test reads
@@ -392,8 +403,7 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
           f_change = f_change > d ? f_change : d;
           f_scale = f_scale > a ? f_scale : a;
         }
-        // (internal::AllFinite: out->statics is on the view's layout, SetNaN above.)
-        if (!C::StaticsFinite(model, out->statics) || !(zero == 0)) {
+        if (!statics_finite || !(zero == 0)) {
           return finish(Status::kDidNotConverge, "friction iteration diverged", false);
         }
         // drive and drive_prev are finite here: their maxima in any order are the same.
