@@ -939,6 +939,23 @@ TYPED_TEST(ModelViewTest, EveryFunctionGivesTheFixedSizeFunctionsOutputsToTheBit
           << l.name << "::" << l.members[i].name << " was not compared";
 }
 
+// The view's parameters at their defaults (and Params alike), the assembly configuration and
+// input speeds of 0.625 each, as flat arrays; ok false where the assembly does not solve.
+template <class M>
+struct AtAssembly {
+  explicit AtAssembly(const ModelView& v) {
+    Parameters<M>(v, 0.0, &p, &params);
+    const mechtest::Config<M> config = mechtest::SolvedAssembly<M>(params, &ok);
+    q.assign(config.q.data(), config.q.data() + M::kNq);
+    phi.assign(config.phi.data(), config.phi.data() + M::kNphi);
+    qd.assign(static_cast<size_t>(M::kNq), 0.625);
+  }
+  std::vector<double> p;
+  mechtest::ParamsD<M> params;
+  bool ok = false;
+  std::vector<double> q, phi, qd;
+};
+
 // ModelView::StaticsChecks states the rule of the fixed-size statics' checks again, in the
 // generated code (codegen/emit.cc): which members statics::internal::AllFinite reads, and max |R|
 // (statics::Solve's reaction_norm). On the buffer Forces fills at the assembly, with a NaN, then
@@ -954,15 +971,12 @@ TYPED_TEST(ModelViewTest, StaticsChecksAreTheFixedSizeStaticsChecks) {
   if constexpr (M::kHasStatics) {
     ASSERT_NE(v.ForcesChecked, nullptr);
     using S = typename M::template StaticsT<double>;
-    std::vector<double> p;
-    mechtest::ParamsD<M> params;
-    Parameters<M>(v, 0.0, &p, &params);
-    bool ok = false;
-    const mechtest::Config<M> config = mechtest::SolvedAssembly<M>(params, &ok);
-    ASSERT_TRUE(ok);
-    const std::vector<double> q(config.q.data(), config.q.data() + M::kNq);
-    const std::vector<double> phi(config.phi.data(), config.phi.data() + M::kNphi);
-    const std::vector<double> qd(static_cast<size_t>(M::kNq), 0.625);
+    const AtAssembly<M> at(v);
+    ASSERT_TRUE(at.ok) << M::kName << ": the assembly configuration does not solve";
+    const std::vector<double>& p = at.p;
+    const std::vector<double>& q = at.q;
+    const std::vector<double>& phi = at.phi;
+    const std::vector<double>& qd = at.qd;
     const std::vector<double> friction(static_cast<size_t>(v.num_friction), 0.375);
     const double* const f = v.num_friction > 0 ? friction.data() : nullptr;
     std::vector<double> c = Buffer(v, ViewStruct::kCoefficients, kFill);
@@ -1033,15 +1047,12 @@ TYPED_TEST(ModelViewTest, StaticsChecksAreTheFixedSizeStaticsChecks) {
 TYPED_TEST(ModelViewTest, BuffersInPlaceAndCopiedGiveTheSameBits) {
   using M = TypeParam;
   const ModelView& v = ViewOfModel<M>();
-  std::vector<double> p;
-  mechtest::ParamsD<M> params;
-  Parameters<M>(v, 0.0, &p, &params);
-  bool ok = false;
-  const mechtest::Config<M> config = mechtest::SolvedAssembly<M>(params, &ok);
-  ASSERT_TRUE(ok);
-  const std::vector<double> q(config.q.data(), config.q.data() + M::kNq);
-  const std::vector<double> phi(config.phi.data(), config.phi.data() + M::kNphi);
-  const std::vector<double> qd(static_cast<size_t>(M::kNq), 0.625);
+  const AtAssembly<M> at(v);
+  ASSERT_TRUE(at.ok) << M::kName << ": the assembly configuration does not solve";
+  const std::vector<double>& p = at.p;
+  const std::vector<double>& q = at.q;
+  const std::vector<double>& phi = at.phi;
+  const std::vector<double>& qd = at.qd;
   // Each struct's buffer twice, from an aligned start (operator new: 16 bytes) and 8 bytes on.
   struct Pair {
     Pair(const ModelView& v, ViewStruct s) : n(static_cast<size_t>(v.Layout(s).size)), storage(2 * n + 1, kFill) {}
