@@ -973,19 +973,16 @@ TYPED_TEST(ModelViewTest, StaticsChecksAreTheFixedSizeStaticsChecks) {
     using S = typename M::template StaticsT<double>;
     const AtAssembly<M> at(v);
     ASSERT_TRUE(at.ok) << M::kName << ": the assembly configuration does not solve";
-    const std::vector<double>& p = at.p;
-    const std::vector<double>& q = at.q;
-    const std::vector<double>& phi = at.phi;
-    const std::vector<double>& qd = at.qd;
     const std::vector<double> friction(static_cast<size_t>(v.num_friction), 0.375);
     const double* const f = v.num_friction > 0 ? friction.data() : nullptr;
     std::vector<double> c = Buffer(v, ViewStruct::kCoefficients, kFill);
-    v.Coeffs(p.data(), q.data(), phi.data(), c.data(), nullptr);
+    v.Coeffs(at.p.data(), at.q.data(), at.phi.data(), c.data(), nullptr);
     std::vector<double> forces = Buffer(v, ViewStruct::kStatics, kFill), checked = forces;
-    v.Forces(p.data(), q.data(), phi.data(), c.data(), forces.data(), f, nullptr, qd.data());
+    v.Forces(at.p.data(), at.q.data(), at.phi.data(), c.data(), forces.data(), f, nullptr, at.qd.data());
     double norm = kFill, norm_alone = kFill;
     const bool finite =
-        v.ForcesChecked(p.data(), q.data(), phi.data(), c.data(), checked.data(), f, nullptr, qd.data(), &norm);
+        v.ForcesChecked(at.p.data(), at.q.data(), at.phi.data(), c.data(), checked.data(), f, nullptr,
+                        at.qd.data(), &norm);
     for (size_t i = 0; i < forces.size(); ++i) EXPECT_EQ(Bits(checked[i]), Bits(forces[i])) << "ForcesChecked [" << i << "]";
     EXPECT_TRUE(finite) << "the statics at the assembly";
     EXPECT_EQ(v.StaticsChecks(forces.data(), &norm_alone), finite);
@@ -1049,10 +1046,6 @@ TYPED_TEST(ModelViewTest, BuffersInPlaceAndCopiedGiveTheSameBits) {
   const ModelView& v = ViewOfModel<M>();
   const AtAssembly<M> at(v);
   ASSERT_TRUE(at.ok) << M::kName << ": the assembly configuration does not solve";
-  const std::vector<double>& p = at.p;
-  const std::vector<double>& q = at.q;
-  const std::vector<double>& phi = at.phi;
-  const std::vector<double>& qd = at.qd;
   // Each struct's buffer twice, from an aligned start (operator new: 16 bytes) and 8 bytes on.
   struct Pair {
     Pair(const ModelView& v, ViewStruct s) : n(static_cast<size_t>(v.Layout(s).size)), storage(2 * n + 1, kFill) {}
@@ -1068,21 +1061,22 @@ TYPED_TEST(ModelViewTest, BuffersInPlaceAndCopiedGiveTheSameBits) {
   Pair trig(v, ViewStruct::kTrig), c(v, ViewStruct::kCoefficients);
   if constexpr (M::kHasSolve) {
     for (double* t : {trig.aligned(), trig.shifted()}) {
-      std::vector<double> phi_io = phi;
-      v.Solve(p.data(), q.data(), phi_io.data(), M::kDefaultModes.data(), 20, 0.0, t);
+      std::vector<double> phi_io = at.phi;
+      v.Solve(at.p.data(), at.q.data(), phi_io.data(), M::kDefaultModes.data(), 20, 0.0, t);
     }
     trig.Expect("Solve: trig");
   }
-  v.Coeffs(p.data(), q.data(), phi.data(), c.aligned(), M::kHasTrig ? trig.aligned() : nullptr);
-  v.Coeffs(p.data(), q.data(), phi.data(), c.shifted(), M::kHasTrig ? trig.shifted() : nullptr);
+  v.Coeffs(at.p.data(), at.q.data(), at.phi.data(), c.aligned(), M::kHasTrig ? trig.aligned() : nullptr);
+  v.Coeffs(at.p.data(), at.q.data(), at.phi.data(), c.shifted(), M::kHasTrig ? trig.shifted() : nullptr);
   c.Expect("Coeffs");
   if (v.Forces != nullptr) {
     Pair s(v, ViewStruct::kStatics);
     const std::vector<double> friction(static_cast<size_t>(v.num_friction), 0.375);
     for (int shifted = 0; shifted < 2; ++shifted) {
-      v.Forces(p.data(), q.data(), phi.data(), shifted ? c.shifted() : c.aligned(), shifted ? s.shifted() : s.aligned(),
+      v.Forces(at.p.data(), at.q.data(), at.phi.data(), shifted ? c.shifted() : c.aligned(),
+               shifted ? s.shifted() : s.aligned(),
                v.num_friction > 0 ? friction.data() : nullptr, M::kHasTrig ? (shifted ? trig.shifted() : trig.aligned()) : nullptr,
-               qd.data());
+               at.qd.data());
     }
     s.Expect("Forces");
   }
@@ -1090,9 +1084,9 @@ TYPED_TEST(ModelViewTest, BuffersInPlaceAndCopiedGiveTheSameBits) {
     Pair rc(v, ViewStruct::kRhsConstants), out(v, ViewStruct::kRhs), st(v, ViewStruct::kTrig);
     for (int shifted = 0; shifted < 2; ++shifted) {
       double* const rcb = shifted ? rc.shifted() : rc.aligned();
-      v.Prepare(p.data(), rcb);
-      v.Rhs(p.data(), rcb, q.data(), qd.data(), 0.25, M::kDefaultModes.data(), shifted ? st.shifted() : st.aligned(),
-            shifted ? out.shifted() : out.aligned(), nullptr);
+      v.Prepare(at.p.data(), rcb);
+      v.Rhs(at.p.data(), rcb, at.q.data(), at.qd.data(), 0.25, M::kDefaultModes.data(),
+            shifted ? st.shifted() : st.aligned(), shifted ? out.shifted() : out.aligned(), nullptr);
     }
     rc.Expect("Prepare");
     st.Expect("Rhs: trig");
