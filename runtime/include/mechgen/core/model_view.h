@@ -10,7 +10,8 @@
  *    generated header's Model;
  *  - the parameter table (ViewParameter): the free parameters, then the derived ones, with
  *    their defaults; FindParameter finds one by name, fill_derived computes the derived ones;
- *  - one function pointer per function of the generated Model (Phi, Coeffs, Solve, ...),
+ *  - one function pointer per function of the generated Model (Phi, Coeffs, Solve, ...), and
+ *    beside Forces the statics' reads of its results (StaticsChecks, ForcesChecked), generated,
  *    nullptr where the model lacks it (where its kHas* flag is false), on flat arrays of double:
  *    the parameters p in the table's order (the free ones are read, p[0, num_free_params)), q,
  *    phi, qd, ... as arrays of their sizes, every matrix column-major, and each struct
