@@ -983,7 +983,8 @@ TYPED_TEST(ModelViewTest, StaticsChecksAreTheFixedSizeStaticsChecks) {
     const bool finite =
         v.ForcesChecked(at.p.data(), at.q.data(), at.phi.data(), c.data(), checked.data(), f, nullptr,
                         at.qd.data(), &norm);
-    for (size_t i = 0; i < forces.size(); ++i) EXPECT_EQ(Bits(checked[i]), Bits(forces[i])) << "ForcesChecked [" << i << "]";
+    for (size_t i = 0; i < forces.size(); ++i)
+      EXPECT_EQ(Bits(checked[i]), Bits(forces[i])) << "ForcesChecked [" << i << "]";
     EXPECT_TRUE(finite) << "the statics at the assembly";
     EXPECT_EQ(v.StaticsChecks(forces.data(), &norm_alone), finite);
     EXPECT_EQ(Bits(norm), Bits(norm_alone));

@@ -107,18 +107,12 @@ MECHGEN_ALWAYS_INLINE void Fill(X* x, Eigen::Index rows, Eigen::Index cols, doub
   }
 }
 
-/// max_i |x_i| of a vector with at least one entry: Eigen's cwiseAbs().maxCoeff() for a
-/// fixed-size x; for a bounded dynamic one (the view's map) the same maximum by MaxAbsDiff()
-/// when every entry is finite (the maximum of finite values is the same in any order), and
-/// Eigen's reduction only where one is not (whose NaN handling depends on its order).
+/// max_i |x_i| of a vector with at least one entry (Eigen's cwiseAbs().maxCoeff()): a generated
+/// model's reaction norm. (The view's is generated: ModelView::StaticsChecks, the same code on
+/// the fixed-size R.)
 template <class X>
 MECHGEN_ALWAYS_INLINE double MaxAbs(const X& x) {
-  if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
-    return x.cwiseAbs().maxCoeff();
-  } else {
-    const double m = ::mechgen::internal::MaxAbsDiff(x);
-    return m == m ? m : x.cwiseAbs().maxCoeff();
-  }
+  return x.cwiseAbs().maxCoeff();
 }
 
 /// A.row(J).dot(e): Eigen's for a fixed-size A; for a bounded dynamic one (the view's map) the
