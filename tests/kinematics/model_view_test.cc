@@ -23,6 +23,7 @@
 #define MECHTEST_MODEL_VIEWS
 #include "all_models.h"
 #include "kinematics_test_util.h"
+#include "mechgen/core/view_model.h"
 #include "mechgen/statics/solve.h"
 
 namespace {
@@ -1092,6 +1093,50 @@ TYPED_TEST(ModelViewTest, BuffersInPlaceAndCopiedGiveTheSameBits) {
     rc.Expect("Prepare");
     st.Expect("Rhs: trig");
     out.Expect("Rhs");
+  }
+}
+
+// ModelCalls<ViewModel>::CopyTrig, what a simulation's right-hand side keeps of each stage's sin
+// and cos (dynamics/forward.h, LastEvaluation): the model's entries of the view's Trig buffer and
+// no more. After the view's Solve at the assembly, the copy's sin and cos of every phi as the
+// dynamics read them (TrigSinPhi, TrigCosPhi) are the fixed-size M::Solve's, to the bit (0 where
+// that writes none, as the view's Solve leaves them); every entry of the model's Trig struct is
+// copied; the buffer past it keeps what the copy held.
+TYPED_TEST(ModelViewTest, CopyTrigKeepsTheModelsSinAndCosOnly) {
+  using M = TypeParam;
+  if constexpr (M::kHasTrig && M::kHasSolve) {
+    using Calls = mechgen::ModelCalls<mechgen::ViewModel>;
+    const ModelView& v = ViewOfModel<M>();
+    const mechgen::ViewModel model(v);
+    const AtAssembly<M> at(v);
+    ASSERT_TRUE(at.ok) << M::kName << ": the assembly configuration does not solve";
+    typename M::template TrigT<double> trig = Filled<M, typename M::template TrigT<double>>();
+    mechtest::VecPhi<M> phi = Eigen::Map<const mechtest::VecPhi<M>>(at.phi.data());
+    const mechtest::VecQ<M> q = Eigen::Map<const mechtest::VecQ<M>>(at.q.data());
+    M::Solve(at.params, q, &phi, M::kDefaultModes, 20, 0.0, &trig);
+
+    mechgen::internal::ViewTrig from, to;
+    from.buffer.fill(kFill);
+    to.buffer.fill(std::numeric_limits<double>::quiet_NaN());
+    std::vector<double> phi_view = at.phi;
+    v.Solve(at.p.data(), at.q.data(), phi_view.data(), M::kDefaultModes.data(), 20, 0.0, from.buffer.data());
+    Calls::CopyTrig(model, from, &to);
+    // (Unwritten0: 0 where the fixed-size solve writes nothing, a coordinate that is no angle.)
+    const auto sin_phi = Unwritten0(trig.sin_phi), cos_phi = Unwritten0(trig.cos_phi);
+    for (int i = 0; i < M::kNphi; ++i) {
+      EXPECT_EQ(Bits(Calls::TrigSinPhi(model, to, i)), Bits(sin_phi(i))) << "sin_phi " << i;
+      EXPECT_EQ(Bits(Calls::TrigCosPhi(model, to, i)), Bits(cos_phi(i))) << "cos_phi " << i;
+    }
+    const size_t size = static_cast<size_t>(v.Layout(ViewStruct::kTrig).size);
+    ASSERT_LE(size, to.buffer.size());
+    EXPECT_GE(size * sizeof(double), sizeof(trig)) << "the Trig struct's entries";
+    for (size_t k = 0; k < to.buffer.size(); ++k) {
+      if (k < size) {
+        EXPECT_EQ(Bits(to.buffer[k]), Bits(from.buffer[k])) << "entry " << k;
+      } else {
+        EXPECT_TRUE(std::isnan(to.buffer[k])) << "entry " << k << " past the model's " << size;
+      }
+    }
   }
 }
 

@@ -568,6 +568,8 @@ struct ModelCalls {
   /// sin(phi_i) and cos(phi_i) as a solve left them in its Trig (M::TrigT).
   static double TrigSinPhi(const M&, const Trig& trig, int i) { return trig.sin_phi(i); }
   static double TrigCosPhi(const M&, const Trig& trig, int i) { return trig.cos_phi(i); }
+  /// *to = from: a solve's sin and cos kept for later (the view: the entries its model has).
+  static void CopyTrig(const M&, const Trig& from, Trig* to) { *to = from; }
 
   /// Model::Dynamics, with the sin and cos of the last solve where M has them (and kNphi > 0).
   template <class X = M>

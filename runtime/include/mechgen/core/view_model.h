@@ -833,6 +833,11 @@ struct ModelCalls<ViewModel> {
   static double TrigCosPhi(const M& m, const Trig& trig, int i) {
     return trig.buffer[m.dynamics_layouts.trig_cos_phi + i];
   }
+  /// The model's entries of `from` into *to (not the buffer's ModelView maximum: a right-hand
+  /// side keeps its stage's sin and cos at every call, LastEvaluation in dynamics/forward.h).
+  static void CopyTrig(const M& m, const Trig& from, Trig* to) {
+    internal::CopyEntries(from.buffer.data(), m.view->Layout(ViewStruct::kTrig).size, to->buffer.data());
+  }
 
   /// The view's Dynamics (sin and cos of the last solve where it has them and nphi > 0, as the
   /// fixed-size call), its I, h, Q, T, V, P_nc copied out.

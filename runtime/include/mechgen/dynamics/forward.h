@@ -1249,7 +1249,9 @@ class MinimalDynamics {
     (*dy)(2 * nq) = r.P_nc;
     return true;
   }
-  /// The last evaluation, by M::Rhs, for Simulate() (see DerivativeBySolve()).
+  /// The last evaluation, by M::Rhs, for Simulate() (see DerivativeBySolve()). (Kept at every
+  /// call of a simulation's right-hand side: the view's sin and cos at its model's size,
+  /// CopyTrig, not its buffer's maximum.)
   template <class RhsOut>
   void CacheRhs(double t, const State& y, const VecQ& q, const VecQ& qdd, const RhsOut& r) {
     last_.t = t;
@@ -1262,7 +1264,7 @@ class MinimalDynamics {
     last_.sample.V = r.V;
     last_.sample.P_nc = r.P_nc;
     last_.Phi_phi = r.Phi_phi;
-    last_.trig = *tracker_.trig();
+    Calls::CopyTrig(model_, *tracker_.trig(), &last_.trig);
     last_.valid = true;
   }
 
@@ -1309,7 +1311,7 @@ class MinimalDynamics {
       last_.sample.P_nc = d.P_nc;
       if constexpr (kNphi != 0) last_.Phi_phi = c.Phi_phi;
       if constexpr (kStagesByTrig) {
-        if (by_trig) last_.trig = *tracker_.trig();
+        if (by_trig) Calls::CopyTrig(model_, *tracker_.trig(), &last_.trig);
       }
       last_.valid = true;
     }
