@@ -245,22 +245,34 @@ BENCHMARK_TEMPLATE(StaticsSolve, mechgen::ViewSized12, 0)->Name("StaticsSolveAtR
 BENCHMARK_TEMPLATE(StaticsSolve, mech::slider_crank_friction::Model, 1)->Name("StaticsSolveMoving");
 BENCHMARK_TEMPLATE(StaticsSolve, mechgen::ViewSized12, 1)->Name("StaticsSolveMovingSized");
 
+// fourbar_massive's minimal method with Dopri5, fixed-size or through the view.
 template <bool kView>
+using RhsSim = mechgen::dynamics::MinimalDynamics<
+    std::conditional_t<kView, mechgen::ViewModel, mech::fourbar_massive::Model>, mechgen::dynamics::Dopri5>;
+template <bool kView>
+RhsSim<kView> MakeRhsSim(const mechgen::dynamics::MinimalOptions& options) {
+  using Sim = RhsSim<kView>;
+  if constexpr (kView) {
+    const mechgen::ViewModel model(mech::fourbar_massive::View());
+    return Sim(model, mechgen::ModelCalls<mechgen::ViewModel>::DefaultParams(model), options);
+  } else {
+    return Sim(typename Sim::Params(), options);
+  }
+}
+
+// kChained false: each call's state from the table alone, so that consecutive calls are
+// independent and the processor overlaps one call's tail with the next one's start (a
+// throughput figure: calls in flight at once). kChained true: each call's q and qd also read the
+// last call's output, y = s + 1e-300 dy (the same states to the bit: the term is below half an
+// ulp of every entry), as an integrator's stage reads the stages before it: a simulation's
+// calls wait for each other, and the figure is the call's latency.
+template <bool kView, bool kChained>
 void RightHandSide(benchmark::State& state) {
   using M = mech::fourbar_massive::Model;
-  using Model = std::conditional_t<kView, mechgen::ViewModel, M>;
-  using Sim = mechgen::dynamics::MinimalDynamics<Model, mechgen::dynamics::Dopri5>;
+  using Sim = RhsSim<kView>;
   mechgen::dynamics::MinimalOptions options;
   options.coulomb.enabled = false;
-  auto make = [&options] {
-    if constexpr (kView) {
-      const mechgen::ViewModel model(mech::fourbar_massive::View());
-      return Sim(model, mechgen::ModelCalls<mechgen::ViewModel>::DefaultParams(model), options);
-    } else {
-      return Sim(typename Sim::Params(), options);
-    }
-  };
-  Sim sim = make();
+  Sim sim = MakeRhsSim<kView>(options);
   typename Sim::VecQ q0 = Sim::VecQ::Constant(1, M::kAssemblyQ[0]);
   if (!sim.Initialize(q0)) {
     state.SkipWithError("initialize failed");
@@ -284,8 +296,13 @@ void RightHandSide(benchmark::State& state) {
   for (auto _ : state) {
     const std::array<double, 3>& s = states[k];
     k = k + 1 < kStates ? k + 1 : 0;
-    y(0) = s[0];
-    y(1) = s[1];
+    if constexpr (kChained) {
+      y(0) = s[0] + 1e-300 * dy(0);
+      y(1) = s[1] + 1e-300 * dy(1);
+    } else {
+      y(0) = s[0];
+      y(1) = s[1];
+    }
     bool ok = false;
     if constexpr (kView) {
       ok = mechgen::dynamics::DerivativeOf(&sim, s[2], y, &dy);
@@ -296,8 +313,58 @@ void RightHandSide(benchmark::State& state) {
     benchmark::DoNotOptimize(dy);
   }
 }
-BENCHMARK_TEMPLATE(RightHandSide, false)->Name("RightHandSide");
-BENCHMARK_TEMPLATE(RightHandSide, true)->Name("RightHandSideView");
+BENCHMARK_TEMPLATE(RightHandSide, false, false)->Name("RightHandSide");
+BENCHMARK_TEMPLATE(RightHandSide, true, false)->Name("RightHandSideView");
+BENCHMARK_TEMPLATE(RightHandSide, false, true)->Name("RightHandSideChained");
+BENCHMARK_TEMPLATE(RightHandSide, true, true)->Name("RightHandSideChainedView");
+
+// A whole free simulation of fourbar_massive (Dopri5, 0.5 s from the assembly at 2 rad/s, a
+// sample at every accepted step handed to an observer that keeps the last one), as `mechgen
+// simulate` runs it without its CSV: the counter `rhs` is the right-hand side's evaluations
+// per run, so that time / rhs is the simulation's cost per evaluation, the integrator's
+// arithmetic, the steps' control and the samples included (on the view, its bounded dynamic
+// sizes and a std::function observer; fixed-size, a lambda).
+template <bool kView>
+void Simulation(benchmark::State& state) {
+  using M = mech::fourbar_massive::Model;
+  using Sim = RhsSim<kView>;
+  mechgen::dynamics::MinimalOptions options;
+  options.coulomb.enabled = false;
+  Sim sim = MakeRhsSim<kView>(options);
+  const typename Sim::VecQ q0 = Sim::VecQ::Constant(1, M::kAssemblyQ[0]);
+  const typename Sim::VecQ qd0 = Sim::VecQ::Constant(1, 2.0);
+  if (!sim.Initialize(q0)) {
+    state.SkipWithError("initialize failed");
+    return;
+  }
+  double last_t = 0;
+  long evaluations = 0;
+  mechgen::dynamics::MinimalSummary summary;
+  for (auto _ : state) {
+    bool ok = false;
+    if constexpr (kView) {
+      mechgen::dynamics::ViewSampleFn<Sim> observer = [&last_t](const typename Sim::SampleT& s) {
+        last_t = s.t;
+        return true;
+      };
+      ok = mechgen::dynamics::SimulateFree(&sim, 0.0, q0, qd0, 0.5, observer, &summary, nullptr);
+    } else {
+      ok = sim.Simulate(0.0, q0, qd0, 0.5, [&last_t](const typename Sim::SampleT& s) {
+        last_t = s.t;
+        return true;
+      }, &summary);
+    }
+    if (!ok) {
+      state.SkipWithError("the simulation failed");
+      return;
+    }
+    evaluations += summary.integrator.rhs_evaluations;
+    benchmark::DoNotOptimize(last_t);
+  }
+  state.counters["rhs"] = benchmark::Counter(static_cast<double>(evaluations), benchmark::Counter::kAvgIterations);
+}
+BENCHMARK_TEMPLATE(Simulation, false)->Name("Simulation");
+BENCHMARK_TEMPLATE(Simulation, true)->Name("SimulationView");
 #endif
 
 #ifdef MECHGEN_BENCH_MODEL_INCLUDE

@@ -7,7 +7,9 @@
 #   runtime continuation / plain Newton loop, every model  (target <= 1.00)
 #   through the model view / fixed-size, issue 43 (target <= 1.15 each): a sweep step
 #   (MechgenContinuation, fourbar), a statics row (StaticsRows, slider_crank_friction) and a
-#   simulation's right-hand side (RightHandSide, fourbar_massive). The sweep step and the
+#   simulation's right-hand side (RightHandSide, fourbar_massive; also chained as an
+#   integrator's stages, RightHandSideChained, and per evaluation in a whole simulation,
+#   Simulation). The sweep step and the
 #   statics row as `mechgen sweep` and `mechgen statics` run these models: on the runtime
 #   sized to their shape (core/view_sized.h, one input and two dependent coordinates; *Sized);
 #   beside them, for reference, the same on the instantiation for any view (*View), which
@@ -60,6 +62,19 @@ print("  targets (issue 43: through the model view / the fixed-size instantiatio
 target("sweep step, view / fixed (fourbar)", "MechgenContinuationSized", "MechgenContinuation", 1.15)
 target("statics row, view / fixed (slider_crank_friction)", "StaticsRowsSized", "StaticsRows", 1.15)
 target("right-hand side, view / fixed (fourbar_massive)", "RightHandSideView", "RightHandSide", 1.15)
+# The same right-hand side read two more ways (each against the same 1.15): its calls chained as
+# an integrator's stages chain them (each call's state reads the last call's output, so that the
+# calls do not overlap: the call's latency, where the line above is its throughput over
+# independent calls); and a whole free simulation (Dopri5, samples at every step), per
+# evaluation of the right-hand side, the integrator and the samples included.
+target("right-hand side chained, view / fixed", "RightHandSideChainedView", "RightHandSideChained", 1.15)
+target("a simulation per evaluation, view / fixed", "SimulationView", "Simulation", 1.15)
+if "SimulationView" in med and "Simulation" in med:
+    rhs = {b["run_name"]: b.get("rhs") for b in data["benchmarks"] if b.get("aggregate_name") == "median"}
+    if rhs.get("Simulation") and rhs.get("SimulationView"):
+        print(f"    (per evaluation: {med['Simulation'] / rhs['Simulation']:.1f} -> "
+              f"{med['SimulationView'] / rhs['SimulationView']:.1f} {unit['Simulation']}, "
+              f"{rhs['Simulation']:.0f} evaluations a run)")
 print("  for reference: the instantiation for a view of any shape (models of other shapes run it)")
 for label, a, b in [("sweep step, any-shape view / fixed (fourbar)", "MechgenContinuationView", "MechgenContinuation"),
                     ("statics row, any-shape view / fixed", "StaticsRowsView", "StaticsRows")]:
