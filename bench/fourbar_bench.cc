@@ -245,13 +245,16 @@ BENCHMARK_TEMPLATE(StaticsSolve, mechgen::ViewSized12, 0)->Name("StaticsSolveAtR
 BENCHMARK_TEMPLATE(StaticsSolve, mech::slider_crank_friction::Model, 1)->Name("StaticsSolveMoving");
 BENCHMARK_TEMPLATE(StaticsSolve, mechgen::ViewSized12, 1)->Name("StaticsSolveMovingSized");
 
-// fourbar_massive's minimal method with Dopri5, fixed-size or through the view.
+// fourbar_massive's minimal method with Dopri5 (Coulomb friction off), fixed-size or through the
+// view.
 template <bool kView>
 using RhsSim = mechgen::dynamics::MinimalDynamics<
     std::conditional_t<kView, mechgen::ViewModel, mech::fourbar_massive::Model>, mechgen::dynamics::Dopri5>;
 template <bool kView>
-RhsSim<kView> MakeRhsSim(const mechgen::dynamics::MinimalOptions& options) {
+RhsSim<kView> MakeRhsSim() {
   using Sim = RhsSim<kView>;
+  mechgen::dynamics::MinimalOptions options;
+  options.coulomb.enabled = false;
   if constexpr (kView) {
     const mechgen::ViewModel model(mech::fourbar_massive::View());
     return Sim(model, mechgen::ModelCalls<mechgen::ViewModel>::DefaultParams(model), options);
@@ -270,9 +273,7 @@ template <bool kView, bool kChained>
 void RightHandSide(benchmark::State& state) {
   using M = mech::fourbar_massive::Model;
   using Sim = RhsSim<kView>;
-  mechgen::dynamics::MinimalOptions options;
-  options.coulomb.enabled = false;
-  Sim sim = MakeRhsSim<kView>(options);
+  Sim sim = MakeRhsSim<kView>();
   typename Sim::VecQ q0 = Sim::VecQ::Constant(1, M::kAssemblyQ[0]);
   if (!sim.Initialize(q0)) {
     state.SkipWithError("initialize failed");
@@ -328,9 +329,7 @@ template <bool kView>
 void Simulation(benchmark::State& state) {
   using M = mech::fourbar_massive::Model;
   using Sim = RhsSim<kView>;
-  mechgen::dynamics::MinimalOptions options;
-  options.coulomb.enabled = false;
-  Sim sim = MakeRhsSim<kView>(options);
+  Sim sim = MakeRhsSim<kView>();
   const typename Sim::VecQ q0 = Sim::VecQ::Constant(1, M::kAssemblyQ[0]);
   const typename Sim::VecQ qd0 = Sim::VecQ::Constant(1, 2.0);
   if (!sim.Initialize(q0)) {
