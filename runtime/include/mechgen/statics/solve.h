@@ -331,24 +331,24 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
 
   // The frictionless evaluation: the answer without friction, the start of the iteration
   // with it, and the figure |R| that a singular configuration reports.
-  constexpr const char* kDeadPoint = "cond_1(Phi_phi) > Options::max_condition (a dead point)";
-  constexpr const char* kNotFinite = "a generated value is not finite";
+  bool finite = false;
   if constexpr (C::kView) {
     // Forces and the reads of its results (AllFinite, max |R|) in the view's one call, on the
     // generated struct's fixed sizes, as the generated model's code below makes them.
-    const bool finite = C::ForcesChecked(model, p, q, phi, c, &out->statics, nullptr, velocities,
-                                         C::HasReactions(model) ? &s.reaction_norm : nullptr);
-    s.iterations = 1;
-    if (!(s.condition <= options.max_condition)) return finish(Status::kSingular, kDeadPoint, true);
-    if (!finite) return finish(Status::kSingular, kNotFinite, true);
+    finite = C::ForcesChecked(model, p, q, phi, c, &out->statics, nullptr, velocities,
+                              C::HasReactions(model) ? &s.reaction_norm : nullptr);
   } else {
     internal::Evaluate<M>(model, p, q, phi, c, nullptr, &out->statics, velocities);
-    s.iterations = 1;
     if constexpr (F::kHasReactions)
       if (C::HasReactions(model)) s.reaction_norm = internal::MaxAbs(out->statics.R);
-    if (!(s.condition <= options.max_condition)) return finish(Status::kSingular, kDeadPoint, true);
-    if (!internal::AllFinite<M>(model, out->statics)) return finish(Status::kSingular, kNotFinite, true);
+    finite = internal::AllFinite<M>(model, out->statics);
   }
+  s.iterations = 1;
+  if (!(s.condition <= options.max_condition)) {
+    return finish(Status::kSingular, "cond_1(Phi_phi) > Options::max_condition (a dead point)",
+                  true);
+  }
+  if (!finite) return finish(Status::kSingular, "a generated value is not finite", true);
   s.last_change = 0;
   if constexpr (F::kHasFriction) {
     using VecF = typename Types::VecF;
