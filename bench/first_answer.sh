@@ -11,7 +11,7 @@
 # goes into the generated code, so no compiler cache can have it; CXX is unset, so no ccache),
 # with a fresh cache directory. Measured, wall clock, one run each on whatever the machine is
 # doing (say so beside the figures):
-#   kernel   g++ -O2 -c <name>.cc of the generated model (the floor of any first answer)
+#   kernel   g++ -O3 -c <name>.cc of the generated model (the floor of any first answer)
 #   first    the first `mechgen <command>` (generation, the model's object, the answer)
 #   second   a second command on the same model (a sweep with other options: the object cached)
 #   cached   the same command again
@@ -74,7 +74,7 @@ for pair in "${models[@]}"; do
     sed 's/^count: .*/count: 200/' > study.yaml
   # The kernel's own compile (the generated model, double only).
   "$mechgen" generate "$name.yaml" --out-dir gen > /dev/null 2>&1 || { echo "error: cannot generate $model"; continue; }
-  timed kernel c++ -O2 -std=c++17 -isystem /usr/include/eigen3 -c "gen/$name.cc" -o kernel.o || continue
+  timed kernel c++ -O3 -std=c++17 -isystem /usr/include/eigen3 -c "gen/$name.cc" -o kernel.o || continue
   export MECHGEN_CACHE_DIR=$dir/cache
   timed first "$mechgen" "$command" "$name.yaml" "${options[@]}" --csv first.csv || continue
   timed second "$mechgen" sweep "$name.yaml" --steps 90 --qd 2 --table 0 --csv second.csv || continue
