@@ -73,7 +73,7 @@ const std::vector<std::string> kFlags = {"-O2", "-std=c++17", "-DNDEBUG"};
 // compiles the model libraries and the runtime the object is loaded into (mechgen_view), so
 // that the four-bar benchmark's view figures are those of the object mechgen builds. Against
 // -O2 there (README, issue 43): a chained right-hand side 1.11-1.13 of the fixed-size one
-// against 1.16-1.17, the statics row 0.98-1.00 against 1.05, the sweep step 2-4 % slower; the
+// against 1.16-1.18, the statics row 0.98-1.00 against 1.05, the sweep step 2-4 % slower; the
 // compile takes the same time (fourbar_massive 1.76 against 1.70 s).
 const std::vector<std::string> kViewFlags = {"-O3", "-fPIC"};
 
