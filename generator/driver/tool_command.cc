@@ -67,15 +67,19 @@ namespace fs = std::filesystem;
 constexpr const char* kCacheFormat = "mechgen tool cache 3";
 // The models' shared objects for mechgen_view (cache folder view/).
 constexpr const char* kViewCacheFormat = "mechgen view cache 1";
-// Every compile; the driver adds its own.
-const std::vector<std::string> kFlags = {"-O2", "-std=c++17", "-DNDEBUG"};
-// The model's shared object (BuildView), after kFlags (the later -O wins): -O3, as the build
-// compiles the model libraries and the runtime the object is loaded into (mechgen_view), so
-// that the four-bar benchmark's view figures are those of the object mechgen builds. Against
-// -O2 there (README, issue 43): a chained right-hand side 1.11-1.13 of the fixed-size one
-// against 1.16-1.18, the statics row 0.98-1.00 against 1.05, the sweep step 2-4 % slower; the
-// compile takes the same time (fourbar_massive 1.76 against 1.70 s).
-const std::vector<std::string> kViewFlags = {"-O3", "-fPIC"};
+// Every compile, after its optimization level (below); the driver adds its own.
+const std::vector<std::string> kFlags = {"-std=c++17", "-DNDEBUG"};
+// A per-model program (the runtime compiled for one model) and its parts: -O2, as the build
+// compiles the per-model tools (the top-level CMakeLists.txt: -O3 costs them compile time for
+// nothing).
+constexpr const char* kProgramOptimization = "-O2";
+// The model's shared object (BuildView, the generated code only): -O3, as the build compiles
+// the model libraries and the runtime the object is loaded into (mechgen_view), so that the
+// four-bar benchmark's view figures are those of the object mechgen builds. Against -O2 there
+// (README, issue 43): a chained right-hand side 1.11-1.13 of the fixed-size one against
+// 1.16-1.18, the statics row 0.98-1.00 against 1.05, the sweep step 2-4 % slower; the compile
+// takes the same time (fourbar_massive 1.76 against 1.70 s).
+constexpr const char* kViewOptimization = "-O3";
 
 // A command `mechgen <tool> MODEL`: which driver it compiles and what the model must have.
 struct ToolSpec {
@@ -373,10 +377,10 @@ void AddTree(std::string* material, const fs::path& dir, const std::string& suff
   for (const fs::path& f : files) AddPart(material, fs::relative(f, dir, ec).string(), ReadOrEmpty(f));
 }
 
-std::string ToolchainPart(const Toolchain& t) {
+std::string ToolchainPart(const Toolchain& t, const char* optimization = kProgramOptimization) {
   std::string material;
   AddPart(&material, "compiler", Join(t.compiler) + "\n" + t.compiler_identity);
-  AddPart(&material, "flags", Join(kFlags));
+  AddPart(&material, "flags", std::string(optimization) + " " + Join(kFlags));
   return material;
 }
 
@@ -820,9 +824,12 @@ bool RunJobs(std::vector<Job>* jobs, const std::string& what, bool verbose) {
   return true;
 }
 
+// A compile: the compiler (t's, or `compiler`), the optimization level, kFlags, then args.
 std::vector<std::string> Command(const Toolchain& t, std::vector<std::string> args,
-                                 const std::vector<std::string>& compiler = {}) {
+                                 const std::vector<std::string>& compiler = {},
+                                 const char* optimization = kProgramOptimization) {
   std::vector<std::string> command = compiler.empty() ? t.compiler : compiler;
+  command.push_back(optimization);
   command.insert(command.end(), kFlags.begin(), kFlags.end());
   command.insert(command.end(), args.begin(), args.end());
   return command;
@@ -952,8 +959,7 @@ std::string ViewKey(const std::string& model_bytes, const std::string& templates
   AddTree(&material, templates, ".mustache");
   for (const char* header : {"mechgen/core/model_view.h", "mechgen/core/view_buffers.h"})
     AddPart(&material, header, ReadOrEmpty(t.runtime_include / header));
-  material += ToolchainPart(t);
-  AddPart(&material, "view flags", Join(kViewFlags));
+  material += ToolchainPart(t, kViewOptimization);
   AddPart(&material, "eigen", t.eigen_include + "\n" +
                                   ReadOrEmpty(fs::path(t.eigen_include) / "Eigen/src/Core/util/Macros.h"));
   return Sha256Hex(material).substr(0, 32);
@@ -1000,7 +1006,7 @@ int BuildView(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& gene
   // symbols, which bind every object that defines them to the first one loaded and keep it
   // from ever being unloaded (dlclose): a model edited and loaded again would read the old
   // one's constants. -fno-gnu-unique keeps each object's own (clang makes none).
-  std::vector<std::string> object_flags = kViewFlags;
+  std::vector<std::string> object_flags = {"-fPIC"};
   if (t.compiler_identity.find("clang") == std::string::npos) object_flags.push_back("-fno-gnu-unique");
   auto with = [&object_flags](std::vector<std::string> args) {
     args.insert(args.begin(), object_flags.begin(), object_flags.end());
@@ -1008,11 +1014,13 @@ int BuildView(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& gene
   };
   std::vector<Job> jobs;
   jobs.push_back({Command(t, with({"-isystem", t.eigen_include, "-c", (dir / (name + ".cc")).string(), "-o",
-                                   (dir / "model.o").string()})),
+                                   (dir / "model.o").string()}),
+                          {}, kViewOptimization),
                   dir / "model.log"});
   jobs.push_back({Command(t, with({"-DMECHGEN_VIEW_ENTRY", "-I" + dir.string(), "-I" + t.runtime_include.string(),
                                    "-isystem", t.eigen_include, "-c", (dir / (name + "_view.cc")).string(), "-o",
-                                   (dir / "view.o").string()})),
+                                   (dir / "view.o").string()}),
+                          {}, kViewOptimization),
                   dir / "view.log"});
   if (!RunJobs(&jobs, "compiling " + what, c.verbose)) return 1;
   std::vector<Job> link(1);
