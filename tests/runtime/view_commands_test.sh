@@ -31,6 +31,12 @@ run() {
   local status=$?
   if [ "$status" -ne 0 ]; then fail "$name: exit status $status: $(tail -3 "$name.err")"; return; fi
   grep -q "mechgen_view --name" "$name.err" || fail "$name: not through the model view: $(tail -3 "$name.err")"
+  # The model's object (its compiles on the model's first command, under the cache's view/): one
+  # optimization level each, -O3 (kViewOptimization, generator/driver/tool_command.cc; README).
+  local levels
+  levels=$(grep -E '^mechgen: .* -c [^ ]*/view/' "$name.err" |
+           awk '{ n = 0; o = ""; for (i = 1; i <= NF; ++i) if ($i ~ /^-O/) { ++n; o = $i } print n " " o }' | sort -u)
+  [ -z "$levels" ] || [ "$levels" = "1 -O3" ] || fail "$name: the model's object compiled with $levels (want one -O3)"
   local got
   got=$(grep -v '^#' "$csv" | tail -n +2 | wc -l)
   [ "$got" -eq "$rows" ] || fail "$name: $got rows in $csv, expected $rows"
