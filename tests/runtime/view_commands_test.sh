@@ -18,6 +18,7 @@ trap 'rm -rf "$root"' EXIT
 cd "$root" || exit 1
 export MECHGEN_CACHE_DIR=$root/cache
 failures=0
+compiled=0  # commands whose --verbose showed the model's object compiled (checked at the end)
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 models=$source_dir/models
 
@@ -36,6 +37,7 @@ run() {
   local levels
   levels=$(grep -E '^mechgen: .* -c [^ ]*/view/' "$name.err" |
            awk '{ n = 0; o = ""; for (i = 1; i <= NF; ++i) if ($i ~ /^-O/) { ++n; o = $i } print n " " o }' | sort -u)
+  [ -z "$levels" ] || compiled=$((compiled + 1))
   [ -z "$levels" ] || [ "$levels" = "1 -O3" ] || fail "$name: the model's object compiled with $levels (want one -O3)"
   local got
   got=$(grep -v '^#' "$csv" | tail -n +2 | wc -l)
@@ -82,5 +84,6 @@ else
   run synthesized 13 synthesized.csv -- sweep --verbose synthesis/fourbar.yaml --steps 12 --csv synthesized.csv
 fi
 
+[ "$compiled" -gt 0 ] || fail "no command showed the model's object compiled (--verbose's compile lines not found)"
 [ "$failures" -eq 0 ] || { echo "$failures failure(s)"; exit 1; }
 echo "all view commands passed"
