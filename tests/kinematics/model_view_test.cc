@@ -24,6 +24,8 @@
 #include "all_models.h"
 #include "kinematics_test_util.h"
 #include "mechgen/core/view_model.h"
+#include "mechgen/core/view_sized.h"
+#include "mechgen/position/state.h"
 #include "mechgen/statics/solve.h"
 
 namespace {
@@ -1093,6 +1095,69 @@ TYPED_TEST(ModelViewTest, BuffersInPlaceAndCopiedGiveTheSameBits) {
     rc.Expect("Prepare");
     st.Expect("Rhs: trig");
     out.Expect("Rhs");
+  }
+}
+
+// SizedViewModel<1, 2> (core/view_sized.h), the runtime instantiated for the four-bars and
+// slider-cranks: every model of one input and two dependent coordinates whose coefficients have
+// Phi, Phi_phi, K and L runs on it (Fits: its plain SizedCoefficients has the generated struct's
+// layout, the points after L), no model of another shape does; and its Coeffs, written in place,
+// and StaticsCoefficients from a state give the fixed-size M::Coeffs' members to the bit.
+TYPED_TEST(ModelViewTest, SizedViewFitsItsShapeAndGivesTheFixedSizeCoefficients) {
+  using M = TypeParam;
+  using Sized = mechgen::SizedViewModel<1, 2>;
+  using SizedCalls = mechgen::ModelCalls<Sized>;
+  const ModelView& v = ViewOfModel<M>();
+  const mechgen::ViewModel model(v);
+  const bool shape = M::kNq == 1 && M::kNphi == 2 && M::kNc == 2;
+  EXPECT_EQ(Sized::Fits(model), shape && M::kHasK && M::kHasL && M::kHasCoeffsPhi) << M::kName;
+  if constexpr (M::kNq == 1 && M::kNphi == 2 && M::kNc == 2 && M::kHasK && M::kHasL && M::kHasCoeffsPhi) {
+    if (!Sized::Fits(model)) return;
+    const AtAssembly<M> at(v);
+    ASSERT_TRUE(at.ok) << M::kName << ": the assembly configuration does not solve";
+    using Coefficients = typename M::template CoefficientsT<double>;
+    Coefficients fixed = Filled<M, Coefficients>();
+    const mechtest::VecQ<M> q = Eigen::Map<const mechtest::VecQ<M>>(at.q.data());
+    const mechtest::VecPhi<M> phi = Eigen::Map<const mechtest::VecPhi<M>>(at.phi.data());
+    M::Coeffs(at.params, q, phi, &fixed);
+    const Sized sized(model);
+    mechgen::ViewParams p;
+    std::copy(at.p.begin(), at.p.end(), p.values.begin());
+    typename mechgen::ModelTypes<Sized>::Coefficients c;
+    c.points.fill(kFill);
+    SizedCalls::Coeffs(sized, p, q, phi, &c);
+    auto expect = [](const auto& view, const auto& value, const char* what) {
+      ASSERT_EQ(view.rows(), value.rows()) << what;
+      ASSERT_EQ(view.cols(), value.cols()) << what;
+      for (Eigen::Index j = 0; j < value.cols(); ++j)
+        for (Eigen::Index i = 0; i < value.rows(); ++i)
+          EXPECT_EQ(Bits(view(i, j)), Bits(value(i, j))) << what << "(" << i << ", " << j << ")";
+    };
+    // Every member but Phi against the fixed-size struct's.
+    auto expect_all = [&expect, &fixed](const auto& x, const std::string& how) {
+      expect(x.Phi_phi, fixed.Phi_phi, (how + "Phi_phi").c_str());
+      expect(x.K, fixed.K, (how + "K").c_str());
+      expect(x.L, fixed.L, (how + "L").c_str());
+      if constexpr (M::kHasPoints) expect(x.r_P, fixed.r_P, (how + "r_P").c_str());
+      if constexpr (M::kHasPointVelocities) expect(x.K_P, fixed.K_P, (how + "K_P").c_str());
+      if constexpr (M::kHasPointAccelerations) expect(x.L_P, fixed.L_P, (how + "L_P").c_str());
+    };
+    expect(c.Phi, fixed.Phi, "Phi");
+    expect_all(c, "Coeffs: ");
+    EXPECT_EQ(c.r_P.cols(), M::kHasPoints ? M::kNumPoints : 0);
+    // From a position state holding those coefficients (Phi 0: the state has none).
+    mechgen::position::State<Sized> state(sized);
+    state.Phi_phi = c.Phi_phi;
+    state.K = c.K;
+    state.L = c.L;
+    mechgen::Assign(&state.r_P, c.r_P);
+    mechgen::Assign(&state.K_P, c.K_P);
+    mechgen::Assign(&state.L_P, c.L_P);
+    typename mechgen::ModelTypes<Sized>::Coefficients from_state;
+    from_state.points.fill(kFill);
+    SizedCalls::StaticsCoefficients(sized, state, &from_state);
+    expect(from_state.Phi, Eigen::Vector2d::Zero().eval(), "StaticsCoefficients: Phi");
+    expect_all(from_state, "StaticsCoefficients: ");
   }
 }
 

@@ -684,13 +684,14 @@ struct ModelCalls<ViewModel> {
   /// input velocities or nullptr (at rest; a model whose statics read none ignores them).
   static void Forces(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                      const T::Coefficients& c, T::Statics* out, const T::VecF* f, const T::VecQ* qd) {
-    ForcesFlat(m, p, q.data(), phi.data(), c, out, f != nullptr ? f->data() : nullptr,
+    ForcesFlat(m, p, q.data(), phi.data(), c.buffer.data(), out, f != nullptr ? f->data() : nullptr,
                qd != nullptr ? qd->data() : nullptr);
   }
-  static void ForcesFlat(const M& m, const ViewParams& p, const double* q, const double* phi,
-                         const T::Coefficients& c, T::Statics* out, const double* f, const double* qd) {
+  /// (c: the coefficients in the view's layout of its Coefficients, as the typed calls hold them.)
+  static void ForcesFlat(const M& m, const ViewParams& p, const double* q, const double* phi, const double* c,
+                         T::Statics* out, const double* f, const double* qd) {
     if (out->view != m.view) SetNaNStatics(m, out);
-    m.view->Forces(p.data(), q, phi, c.buffer.data(), out->buffer.data(), HasFriction(m) ? f : nullptr, nullptr, qd);
+    m.view->Forces(p.data(), q, phi, c, out->buffer.data(), HasFriction(m) ? f : nullptr, nullptr, qd);
   }
   /// Forces, then StaticsChecks of what it wrote, in the view's one call (ForcesChecked: the
   /// reads wait on the evaluation's results inside the generated code, as a generated model's
@@ -698,14 +699,13 @@ struct ModelCalls<ViewModel> {
   static bool ForcesChecked(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                             const T::Coefficients& c, T::Statics* out, const T::VecF* f, const T::VecQ* qd,
                             double* reaction_norm) {
-    return ForcesCheckedFlat(m, p, q.data(), phi.data(), c, out, f != nullptr ? f->data() : nullptr,
+    return ForcesCheckedFlat(m, p, q.data(), phi.data(), c.buffer.data(), out, f != nullptr ? f->data() : nullptr,
                              qd != nullptr ? qd->data() : nullptr, reaction_norm);
   }
-  static bool ForcesCheckedFlat(const M& m, const ViewParams& p, const double* q, const double* phi,
-                                const T::Coefficients& c, T::Statics* out, const double* f, const double* qd,
-                                double* reaction_norm) {
+  static bool ForcesCheckedFlat(const M& m, const ViewParams& p, const double* q, const double* phi, const double* c,
+                                T::Statics* out, const double* f, const double* qd, double* reaction_norm) {
     if (out->view != m.view) SetNaNStatics(m, out);
-    return m.view->ForcesChecked(p.data(), q, phi, c.buffer.data(), out->buffer.data(), HasFriction(m) ? f : nullptr,
+    return m.view->ForcesChecked(p.data(), q, phi, c, out->buffer.data(), HasFriction(m) ? f : nullptr,
                                  nullptr, qd, reaction_norm);
   }
   /// The coefficients from a position::State (Phi_phi, K, L and the points; Phi 0) into c's
@@ -729,13 +729,13 @@ struct ModelCalls<ViewModel> {
   /// Model::Stiffness through the view (d2V_dq2 and stiffness), where the model has it.
   static void Stiffness(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                         const T::Coefficients& c, T::Statics* out) {
-    StiffnessFlat(m, p, q.data(), phi.data(), c, out);
+    StiffnessFlat(m, p, q.data(), phi.data(), c.buffer.data(), out);
   }
-  static void StiffnessFlat(const M& m, const ViewParams& p, const double* q, const double* phi,
-                            const T::Coefficients& c, T::Statics* out) {
+  static void StiffnessFlat(const M& m, const ViewParams& p, const double* q, const double* phi, const double* c,
+                            T::Statics* out) {
     if (m.view->Stiffness == nullptr) return;
     if (out->view != m.view) SetNaNStatics(m, out);
-    m.view->Stiffness(p.data(), q, phi, c.buffer.data(), out->buffer.data());
+    m.view->Stiffness(p.data(), q, phi, c, out->buffer.data());
   }
   // ---- Design (a `design:` section): the design derivatives (position/design.h), the
   //      statics' (statics/sweep.h) and the design checks, through the view ----
@@ -774,13 +774,12 @@ struct ModelCalls<ViewModel> {
   static void StaticsDesign(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                             const T::Coefficients& c, const internal::ViewDesignDerivatives& dc,
                             internal::ViewStaticsDesign* out) {
-    StaticsDesignFlat(m, p, q.data(), phi.data(), c, dc, out);
+    StaticsDesignFlat(m, p, q.data(), phi.data(), c.buffer.data(), dc, out);
   }
-  static void StaticsDesignFlat(const M& m, const ViewParams& p, const double* q, const double* phi,
-                                const T::Coefficients& c, const internal::ViewDesignDerivatives& dc,
-                                internal::ViewStaticsDesign* out) {
+  static void StaticsDesignFlat(const M& m, const ViewParams& p, const double* q, const double* phi, const double* c,
+                                const internal::ViewDesignDerivatives& dc, internal::ViewStaticsDesign* out) {
     if (out->view != m.view) SetNaN(m, out);
-    m.view->StaticsDesign(p.data(), q, phi, c.buffer.data(), dc.buffer.data(), out->buffer.data());
+    m.view->StaticsDesign(p.data(), q, phi, c, dc.buffer.data(), out->buffer.data());
   }
   /// The view's DesignChecks: the margins (NumDesignChecks) and, where dmargin_dp is not
   /// nullptr, their derivatives (NumDesignChecks x NumDesign); both sized (and zeroed: the view

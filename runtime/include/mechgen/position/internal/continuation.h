@@ -107,11 +107,11 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
         Calls::Coeffs(model_, params_, q, phi, &c, trig);
         residual = internal::MaxAbsDiff(c.Phi);
         if (!(residual <= options_.tolerance)) return false;
-        if constexpr (Calls::kView) {  // (a map of the view's buffer)
+        if constexpr (std::is_same_v<std::decay_t<decltype(c.Phi_phi)>, MatCPhi>) {
+          Phi_phi = &c.Phi_phi;  // (a generated model's, or a sized view's: a plain member)
+        } else {  // (the view's: a map of its buffer)
           Assign(&A, c.Phi_phi);
           Phi_phi = &A;
-        } else {
-          Phi_phi = &c.Phi_phi;
         }
         have_coefficients = true;
         from_coeffs = true;
