@@ -25,7 +25,6 @@
 #include "kinematics_test_util.h"
 #include "mechgen/core/view_model.h"
 #include "mechgen/core/view_sized.h"
-#include "mechgen/position/state.h"
 #include "mechgen/statics/solve.h"
 
 namespace {
@@ -1102,63 +1101,72 @@ TYPED_TEST(ModelViewTest, BuffersInPlaceAndCopiedGiveTheSameBits) {
 // slider-cranks: every model of one input and two dependent coordinates whose coefficients have
 // Phi, Phi_phi, K and L runs on it (Fits: its plain SizedCoefficients has the generated struct's
 // layout, the points after L), no model of another shape does; and its Coeffs, written in place,
-// and StaticsCoefficients from a state give the fixed-size M::Coeffs' members to the bit.
-TYPED_TEST(ModelViewTest, SizedViewFitsItsShapeAndGivesTheFixedSizeCoefficients) {
-  using M = TypeParam;
+// and StaticsCoefficients from a state give the view's Coeffs' buffer to the bit (which
+// EveryFunctionGivesTheFixedSizeFunctionsOutputsToTheBit holds to the fixed-size M::Coeffs).
+// (The sized calls in one function, not one per model: compiled once.)
+void ExpectSizedCoefficients(const ModelView& v, const std::vector<double>& p_in, const std::vector<double>& q_in,
+                             const std::vector<double>& phi_in) {
   using Sized = mechgen::SizedViewModel<1, 2>;
   using SizedCalls = mechgen::ModelCalls<Sized>;
+  using Types = mechgen::ModelTypes<Sized>;
+  const Sized sized{mechgen::ViewModel(v)};
+  mechgen::ViewParams p;
+  std::copy(p_in.begin(), p_in.end(), p.values.begin());
+  const Types::VecQ q = Eigen::Map<const Types::VecQ>(q_in.data());
+  const Types::VecPhi phi = Eigen::Map<const Types::VecPhi>(phi_in.data());
+  std::vector<double> expected = Buffer(v, ViewStruct::kCoefficients, kFill);
+  v.Coeffs(p.data(), q.data(), phi.data(), expected.data(), nullptr);
+  const ViewLayout& layout = v.Layout(ViewStruct::kCoefficients);
+  auto expect = [&layout, &expected](const char* name, const auto& x, const std::string& how, bool zero = false) {
+    const mechgen::ViewMember* m = mechgen::FindMember(layout, name);
+    if (m == nullptr) return;
+    ASSERT_EQ(x.rows(), m->rows) << how << name;
+    ASSERT_EQ(x.cols(), m->cols) << how << name;
+    for (int j = 0; j < m->cols; ++j)
+      for (int i = 0; i < m->rows; ++i)
+        EXPECT_EQ(Bits(x(i, j)), Bits(zero ? 0.0 : expected[static_cast<size_t>(m->offset + i + m->rows * j)]))
+            << how << name << "(" << i << ", " << j << ")";
+  };
+  auto expect_all = [&expect](const Types::Coefficients& c, const std::string& how) {
+    expect("Phi_phi", c.Phi_phi, how);
+    expect("K", c.K, how);
+    expect("L", c.L, how);
+    expect("r_P", c.r_P, how);
+    expect("K_P", c.K_P, how);
+    expect("L_P", c.L_P, how);
+  };
+  Types::Coefficients c;
+  c.points.fill(kFill);
+  SizedCalls::Coeffs(sized, p, q, phi, &c);
+  expect("Phi", c.Phi, "Coeffs: ");
+  expect_all(c, "Coeffs: ");
+  // From the coefficients a position state holds (Phi 0: the state has none), as the statics
+  // row takes them (its CSV through the sized view against the ViewModel's: tests/runtime,
+  // ViewStaticsTool.SizedRuntimeSameAsAnyShape).
+  struct FromState {
+    Types::MatCPhi Phi_phi;
+    Types::MatK K;
+    Types::MatL L;
+    Types::MatRP r_P;
+    Types::MatKP K_P;
+    Types::MatLP L_P;
+  } state{c.Phi_phi, c.K, c.L, c.r_P, c.K_P, c.L_P};
+  Types::Coefficients from_state;
+  from_state.points.fill(kFill);
+  SizedCalls::StaticsCoefficients(sized, state, &from_state);
+  expect("Phi", from_state.Phi, "StaticsCoefficients: ", true);
+  expect_all(from_state, "StaticsCoefficients: ");
+}
+TYPED_TEST(ModelViewTest, SizedViewFitsItsShapeAndGivesTheFixedSizeCoefficients) {
+  using M = TypeParam;
   const ModelView& v = ViewOfModel<M>();
-  const mechgen::ViewModel model(v);
   const bool shape = M::kNq == 1 && M::kNphi == 2 && M::kNc == 2;
-  EXPECT_EQ(Sized::Fits(model), shape && M::kHasK && M::kHasL && M::kHasCoeffsPhi) << M::kName;
-  if constexpr (M::kNq == 1 && M::kNphi == 2 && M::kNc == 2 && M::kHasK && M::kHasL && M::kHasCoeffsPhi) {
-    if (!Sized::Fits(model)) return;
-    const AtAssembly<M> at(v);
-    ASSERT_TRUE(at.ok) << M::kName << ": the assembly configuration does not solve";
-    using Coefficients = typename M::template CoefficientsT<double>;
-    Coefficients fixed = Filled<M, Coefficients>();
-    const mechtest::VecQ<M> q = Eigen::Map<const mechtest::VecQ<M>>(at.q.data());
-    const mechtest::VecPhi<M> phi = Eigen::Map<const mechtest::VecPhi<M>>(at.phi.data());
-    M::Coeffs(at.params, q, phi, &fixed);
-    const Sized sized(model);
-    mechgen::ViewParams p;
-    std::copy(at.p.begin(), at.p.end(), p.values.begin());
-    typename mechgen::ModelTypes<Sized>::Coefficients c;
-    c.points.fill(kFill);
-    SizedCalls::Coeffs(sized, p, q, phi, &c);
-    auto expect = [](const auto& view, const auto& value, const char* what) {
-      ASSERT_EQ(view.rows(), value.rows()) << what;
-      ASSERT_EQ(view.cols(), value.cols()) << what;
-      for (Eigen::Index j = 0; j < value.cols(); ++j)
-        for (Eigen::Index i = 0; i < value.rows(); ++i)
-          EXPECT_EQ(Bits(view(i, j)), Bits(value(i, j))) << what << "(" << i << ", " << j << ")";
-    };
-    // Every member but Phi against the fixed-size struct's.
-    auto expect_all = [&expect, &fixed](const auto& x, const std::string& how) {
-      expect(x.Phi_phi, fixed.Phi_phi, (how + "Phi_phi").c_str());
-      expect(x.K, fixed.K, (how + "K").c_str());
-      expect(x.L, fixed.L, (how + "L").c_str());
-      if constexpr (M::kHasPoints) expect(x.r_P, fixed.r_P, (how + "r_P").c_str());
-      if constexpr (M::kHasPointVelocities) expect(x.K_P, fixed.K_P, (how + "K_P").c_str());
-      if constexpr (M::kHasPointAccelerations) expect(x.L_P, fixed.L_P, (how + "L_P").c_str());
-    };
-    expect(c.Phi, fixed.Phi, "Phi");
-    expect_all(c, "Coeffs: ");
-    EXPECT_EQ(c.r_P.cols(), M::kHasPoints ? M::kNumPoints : 0);
-    // From a position state holding those coefficients (Phi 0: the state has none).
-    mechgen::position::State<Sized> state(sized);
-    state.Phi_phi = c.Phi_phi;
-    state.K = c.K;
-    state.L = c.L;
-    mechgen::Assign(&state.r_P, c.r_P);
-    mechgen::Assign(&state.K_P, c.K_P);
-    mechgen::Assign(&state.L_P, c.L_P);
-    typename mechgen::ModelTypes<Sized>::Coefficients from_state;
-    from_state.points.fill(kFill);
-    SizedCalls::StaticsCoefficients(sized, state, &from_state);
-    expect(from_state.Phi, Eigen::Vector2d::Zero().eval(), "StaticsCoefficients: Phi");
-    expect_all(from_state, "StaticsCoefficients: ");
-  }
+  const bool fits = mechgen::SizedViewModel<1, 2>::Fits(mechgen::ViewModel(v));
+  EXPECT_EQ(fits, shape && M::kHasK && M::kHasL && M::kHasCoeffsPhi) << M::kName;
+  if (!fits) return;
+  const AtAssembly<M> at(v);
+  ASSERT_TRUE(at.ok) << M::kName << ": the assembly configuration does not solve";
+  ExpectSizedCoefficients(v, at.p, at.q, at.phi);
 }
 
 // ModelCalls<ViewModel>::CopyTrig, what a simulation's right-hand side keeps of each stage's sin
