@@ -197,7 +197,9 @@ struct ModelCalls<SizedViewModel<kNqFixed, kNphiFixed>> : ModelCalls<ViewModel> 
                         double* det) {
     m.view->DetPhiPhi(p.data(), q.data(), phi.data(), det);
   }
-  // (The rest forwards to the view's <Call>Flat: what each call does is written there once.)
+  // (Coeffs and StaticsCoefficients fill the plain SizedCoefficients, where ModelCalls<ViewModel>'s
+  // fill a buffer and place maps on it; the rest forwards to the view's <Call>Flat: what each
+  // call does is written there once.)
   static void Coeffs(const M& m, const ViewParams& p, const typename T::VecQ& q, const typename T::VecPhi& phi,
                      typename T::Coefficients* c, const Trig* trig = nullptr) {
     c->MapPoints(m);
