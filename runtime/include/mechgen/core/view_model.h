@@ -316,13 +316,31 @@ struct ModelTypes<ViewModel, Scalar> {
   };
   /// Rhs: the view's buffer, and its matrices maps of it at the view's sizes (set by
   /// ModelCalls<ViewModel>::Rhs: nothing copied out; Q is added to in place, as the
-  /// generated struct's). Not copyable: the maps point into the object's own buffer.
+  /// generated struct's). A copy's maps point into the copy's own buffer.
   struct RhsOut {
     using MatMap = Eigen::Map<Eigen::MatrixXd>;
     using VecMap = Eigen::Map<Eigen::VectorXd>;
     RhsOut() = default;
-    RhsOut(const RhsOut&) = delete;
-    RhsOut& operator=(const RhsOut&) = delete;
+    RhsOut(const RhsOut& other) : buffer(other.buffer) { PlaceLike(other); }
+    RhsOut& operator=(const RhsOut& other) {
+      if (this != &other) {
+        buffer = other.buffer;
+        PlaceLike(other);
+      }
+      return *this;
+    }
+    /// The maps at other's offsets and sizes in this buffer (null where other's are).
+    void PlaceLike(const RhsOut& other) {
+      auto at = [&](const double* data) { return data == nullptr ? nullptr : buffer.data() + (data - other.buffer.data()); };
+      new (&K) MatMap(at(other.K.data()), other.K.rows(), other.K.cols());
+      new (&I) MatMap(at(other.I.data()), other.I.rows(), other.I.cols());
+      new (&h) VecMap(at(other.h.data()), other.h.size());
+      new (&Q) VecMap(at(other.Q.data()), other.Q.size());
+      new (&Phi_phi) MatMap(at(other.Phi_phi.data()), other.Phi_phi.rows(), other.Phi_phi.cols());
+      T = other.T;
+      V = other.V;
+      P_nc = other.P_nc;
+    }
     alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kRhs)]> buffer;
     MatMap K{nullptr, 0, 0}, I{nullptr, 0, 0};
     VecMap h{nullptr, 0}, Q{nullptr, 0};

@@ -232,6 +232,16 @@ class PreparedRhsConstants {
   Constants rc_{};
   bool stale_ = true;
 };
+
+/// M::Rhs' output struct (ModelCalls<M>::RhsOut), or an empty placeholder where M has no Rhs.
+template <class M, bool = HasRhs<M>::value>
+struct RhsOutOf {
+  struct type {};
+};
+template <class M>
+struct RhsOutOf<M, true> {
+  using type = typename ModelCalls<M>::template RhsOut<M>;
+};
 }  // namespace internal
 
 namespace internal {
@@ -530,6 +540,12 @@ class MinimalDynamics {
 
   /// Makes (q, phi, K) the reference of the warm starts (Simulate does after each step).
   void SetReference(const VecQ& q, const VecPhi& phi, const MatK& K) {
+    // The last evaluation's predictor is taken from the reference it was evaluated against
+    // (FromCache: from the current one, until this changes it).
+    if (last_.valid && last_.by_rhs && !last_.predicted) {
+      last_.sample.phi = Predictor(QOf(last_.y));
+      last_.predicted = true;
+    }
     tracker_.SetReference(q, phi, K);
   }
 
@@ -723,6 +739,7 @@ class MinimalDynamics {
       last_.sample.qdd = qdd;
       last_.sample.phi = phi;
       if constexpr (kNphi != 0) last_.Phi_phi = c.Phi_phi;
+      last_.by_rhs = false;
       last_.valid = true;
     }
     return true;
@@ -1186,6 +1203,18 @@ class MinimalDynamics {
     s->q = QOf(y);
     s->qd = QdOf(y);
     s->W = y(2 * Nq());
+    if constexpr (kStagesByRhs) {
+      if (last_.by_rhs) {
+        // By M::Rhs: its outputs read where it wrote them (CacheRhs keeps only the state and
+        // qdd), the predictor taken now, from the reference of the evaluation.
+        if (!last_.predicted) s->phi = Predictor(s->q);
+        s->K = rhs_.K;
+        s->Q = rhs_.Q;
+        s->T = rhs_.T;
+        s->V = rhs_.V;
+        s->P_nc = rhs_.P_nc;
+      }
+    }
     s->E = s->T + s->V;
     if constexpr (kStagesByTrig) {
       // The angles from their sin and cos, within pi of the predictor (sample.phi); with
@@ -1196,6 +1225,13 @@ class MinimalDynamics {
             std::atan2(Calls::TrigSinPhi(model_, last_.trig, i), Calls::TrigCosPhi(model_, last_.trig, i));
         const double turns = std::floor((angle - s->phi(i)) / two_pi + 0.5);
         s->phi(i) = std::isfinite(turns) ? angle - two_pi * turns : angle;
+      }
+    }
+    if constexpr (kStagesByRhs) {
+      if (last_.by_rhs) {
+        const typename Types::MatCPhi Phi_phi = rhs_.Phi_phi;
+        internal::ConditioningOf(Phi_phi, &s->rcond, &s->det);
+        return true;
       }
     }
     internal::ConditioningOf(last_.Phi_phi, &s->rcond, &s->det);
@@ -1210,8 +1246,8 @@ class MinimalDynamics {
     const VecQ qd = QdOf(y);
     // One generated pass (M::Rhs): positions by their sin and cos, K, L, I, h, Q.
     last_solve_not_assemblable_ = false;
-    typename Calls::template RhsOut<M> r;
-    const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, tracker_.modes(), tracker_.trig(), &r);
+    auto& r = rhs_;
+    const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, tracker_.modes(), &last_.trig, &r);
     if (report.status != decltype(report.status)::kConverged) {
       last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
       ++position_failures_;
@@ -1221,7 +1257,7 @@ class MinimalDynamics {
     auto qdd = Sized<VecQ>(Nq());
     if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
     SetDerivative(qd, qdd, r.P_nc, dy);
-    if (caching_) CacheRhs(t, y, q, qdd, r);
+    if (caching_) CacheRhs(t, y, qdd);
     return true;
   }
 
@@ -1233,8 +1269,8 @@ class MinimalDynamics {
     const int nq = Nq();
     const double* const q = y.data();
     const double* const qd = q + nq;
-    typename Calls::template RhsOut<M> r;
-    const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, tracker_.modes(), tracker_.trig(), &r);
+    auto& r = rhs_;
+    const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, tracker_.modes(), &last_.trig, &r);
     if (report.status != decltype(report.status)::kConverged) {
       last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
       ++position_failures_;
@@ -1242,29 +1278,23 @@ class MinimalDynamics {
     }
     auto qdd = Sized<VecQ>(nq);
     if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
-    if (caching_) CacheRhs(t, y, QOf(y), qdd, r);  // (before dy is written: dy may be y)
+    if (caching_) CacheRhs(t, y, qdd);  // (before dy is written: dy may be y)
     dy->resize(2 * nq + 1);
     ::mechgen::internal::CopyEntries(qd, nq, dy->data());  // (reads y's qd, writes over its q only)
     ::mechgen::internal::CopyEntries(qdd.data(), nq, dy->data() + nq);
     (*dy)(2 * nq) = r.P_nc;
     return true;
   }
-  /// The last evaluation, by M::Rhs, for Simulate() (see DerivativeBySolve()). (Kept at every
-  /// call of a simulation's right-hand side: the view's sin and cos at its model's size,
-  /// CopyTrig, not its buffer's maximum.)
-  template <class RhsOut>
-  void CacheRhs(double t, const State& y, const VecQ& q, const VecQ& qdd, const RhsOut& r) {
+  /// The last evaluation, by M::Rhs, for Simulate() (see DerivativeBySolve()): kept at every
+  /// call of a simulation's right-hand side, so it keeps only the state and qdd. M::Rhs wrote
+  /// the rest where FromCache() reads it (rhs_, and its sin and cos in last_.trig), and the
+  /// predictor is taken there (or by SetReference(), before the reference moves).
+  void CacheRhs(double t, const State& y, const VecQ& qdd) {
     last_.t = t;
     last_.y = y;
-    last_.sample.phi = Predictor(q);  // the predictor; FromCache() corrects it
-    last_.sample.K = r.K;
     last_.sample.qdd = qdd;
-    last_.sample.Q = r.Q;
-    last_.sample.T = r.T;
-    last_.sample.V = r.V;
-    last_.sample.P_nc = r.P_nc;
-    last_.Phi_phi = r.Phi_phi;
-    Calls::CopyTrig(model_, *tracker_.trig(), &last_.trig);
+    last_.by_rhs = true;
+    last_.predicted = false;
     last_.valid = true;
   }
 
@@ -1313,6 +1343,7 @@ class MinimalDynamics {
       if constexpr (kStagesByTrig) {
         if (by_trig) Calls::CopyTrig(model_, *tracker_.trig(), &last_.trig);
       }
+      last_.by_rhs = false;
       last_.valid = true;
     }
     return true;
@@ -1401,8 +1432,14 @@ class MinimalDynamics {
     SampleT sample;
     typename Types::MatCPhi Phi_phi = internal::ZeroState<typename Types::MatCPhi>();
     Trig trig{};  ///< kStagesByTrig: the stage's sin and cos, for the angles
+    /// By M::Rhs (CacheRhs): phi (the predictor), K, Q, T, V, P_nc and Phi_phi are rhs_'s
+    /// (phi in sample once SetReference() took it: predicted).
+    bool by_rhs = false;
+    bool predicted = false;
   };
   LastEvaluation last_;
+  /// M::Rhs' output at the last stage (kStagesByRhs), where FromCache() reads it.
+  typename internal::RhsOutOf<M>::type rhs_{};
   bool caching_ = false;
   int position_failures_ = 0;
   bool initialized_ = false, last_solve_not_assemblable_ = false, singular_inertia_ = false;
