@@ -51,6 +51,7 @@
 #include <Eigen/Core>
 
 #include "mechgen/core/invalid_option.h"
+#include "mechgen/core/model_calls.h"
 
 namespace mechgen::dynamics {
 
@@ -519,12 +520,14 @@ class AdaptiveRungeKutta {
     err_prev_ = std::max(err, 1e-4);
     reject_last_ = false;
     t_prev_ = t_;
-    y_prev_ = y_;
-    f_prev_ = f_;
+    // (Assign: Eigen's assignment at a fixed size; at the view's bounded Dynamic one a resize
+    // and a few stores, where Eigen's dynamic-size assignment is a call of its packet loops.)
+    ::mechgen::Assign(&y_prev_, y_);
+    ::mechgen::Assign(&f_prev_, f_);
     h_used_ = h;
     t_ = last ? t_stop : t_ + h;
-    y_ = y_new_;
-    f_ = f_new_;
+    ::mechgen::Assign(&y_, y_new_);
+    ::mechgen::Assign(&f_, f_new_);
     dense_ready_ = false;
     ++summary_.steps;
     summary_.h_last = h;
@@ -609,31 +612,76 @@ class Dopri5 : public AdaptiveRungeKutta<N, Dopri5<N>> {
   using Base::Base;
 
  private:
+  // Each stage's state, the new state and the error as one loop over the entries each, into
+  // the member ys_ and *y_new (no temporary State of a run-time size per stage; the view's
+  // bounded state pays its size once). Per entry the same operations in the same order as
+  // the vector expressions y + h * (a_1 k1 + a_2 k2 + ...): the same bits.
+  // A Dynamic state (the view's) of the sizes of one, two or three inputs' (q, qd, W) runs
+  // the loops at that size known at compile time (unrolled, as a generated model's are); any
+  // other at its run-time size. The same operations on every entry either way.
   template <class Rhs>
   bool Attempt(Rhs& f, double h, State* y_new, State* f_new, double* err) {
+    if constexpr (N == Eigen::Dynamic) {
+      switch (this->y_.size()) {
+        case 3:
+          return AttemptSized<3>(f, h, y_new, f_new, err);
+        case 5:
+          return AttemptSized<5>(f, h, y_new, f_new, err);
+        case 7:
+          return AttemptSized<7>(f, h, y_new, f_new, err);
+        default:
+          break;
+      }
+    }
+    return AttemptSized<N>(f, h, y_new, f_new, err);
+  }
+  /// Attempt() with the state's size kSize (N, or a Dynamic state's size at this call).
+  template <int kSize, class Rhs>
+  bool AttemptSized(Rhs& f, double h, State* y_new, State* f_new, double* err) {
     const State& y = this->y_;
     const State& k1 = this->f_;
     const double t = this->t_;
-    if (!this->Eval(f, t + T::c2 * h, y + h * T::a21 * k1, &k2_)) return false;
-    if (!this->Eval(f, t + T::c3 * h, y + h * (T::a31 * k1 + T::a32 * k2_), &k3_)) return false;
-    if (!this->Eval(f, t + T::c4 * h, y + h * (T::a41 * k1 + T::a42 * k2_ + T::a43 * k3_), &k4_))
-      return false;
-    if (!this->Eval(f, t + T::c5 * h,
-                    y + h * (T::a51 * k1 + T::a52 * k2_ + T::a53 * k3_ + T::a54 * k4_), &k5_))
-      return false;
-    if (!this->Eval(f, t + h,
-                    y + h * (T::a61 * k1 + T::a62 * k2_ + T::a63 * k3_ + T::a64 * k4_ +
-                             T::a65 * k5_),
-                    &k6_))
-      return false;
-    *y_new = y + h * (T::a71 * k1 + T::a73 * k3_ + T::a74 * k4_ + T::a75 * k5_ + T::a76 * k6_);
-    if (!internal::AllFinite(*y_new)) return false;
+    const Eigen::Index n = kSize == Eigen::Dynamic ? y.size() : kSize;
+    ys_.resize(n);
+    y_new->resize(n);
+    const double h21 = h * T::a21;
+    for (Eigen::Index i = 0; i < n; ++i) ys_(i) = y(i) + h21 * k1(i);
+    if (!this->Eval(f, t + T::c2 * h, ys_, &k2_)) return false;
+    for (Eigen::Index i = 0; i < n; ++i) ys_(i) = y(i) + h * (T::a31 * k1(i) + T::a32 * k2_(i));
+    if (!this->Eval(f, t + T::c3 * h, ys_, &k3_)) return false;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      ys_(i) = y(i) + h * (T::a41 * k1(i) + T::a42 * k2_(i) + T::a43 * k3_(i));
+    }
+    if (!this->Eval(f, t + T::c4 * h, ys_, &k4_)) return false;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      ys_(i) = y(i) + h * (T::a51 * k1(i) + T::a52 * k2_(i) + T::a53 * k3_(i) + T::a54 * k4_(i));
+    }
+    if (!this->Eval(f, t + T::c5 * h, ys_, &k5_)) return false;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      ys_(i) = y(i) + h * (T::a61 * k1(i) + T::a62 * k2_(i) + T::a63 * k3_(i) + T::a64 * k4_(i) +
+                           T::a65 * k5_(i));
+    }
+    if (!this->Eval(f, t + h, ys_, &k6_)) return false;
+    bool finite = true;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      (*y_new)(i) = y(i) + h * (T::a71 * k1(i) + T::a73 * k3_(i) + T::a74 * k4_(i) + T::a75 * k5_(i) +
+                                T::a76 * k6_(i));
+      finite = finite && std::isfinite((*y_new)(i));
+    }
+    if (!finite) return false;
     if (!this->Eval(f, t + h, *y_new, f_new)) return false;
-    const State e = h * (T::e1 * k1 + T::e3 * k3_ + T::e4 * k4_ + T::e5 * k5_ + T::e6 * k6_ +
-                         T::e7 * *f_new);
-    *err = std::sqrt(this->ScaledSquares(e, *y_new) / this->Size());
+    // The error estimate and its scaled squares (ScaledSquares()'s sum, fused).
+    double s = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double e = h * (T::e1 * k1(i) + T::e3 * k3_(i) + T::e4 * k4_(i) + T::e5 * k5_(i) +
+                            T::e6 * k6_(i) + T::e7 * (*f_new)(i));
+      const double sk = this->options_.atol +
+                        this->options_.rtol * std::max(std::abs(y(i)), std::abs((*y_new)(i)));
+      s += (e / sk) * (e / sk);
+    }
+    *err = std::sqrt(s / this->Size());
     // Keep the stages of this attempt for the dense output, if it is accepted.
-    s1_ = k1;
+    ::mechgen::Assign(&s1_, k1);
     return true;
   }
 
@@ -660,6 +708,7 @@ class Dopri5 : public AdaptiveRungeKutta<N, Dopri5<N>> {
         k6_ = internal::ZeroState<State>(), s1_ = internal::ZeroState<State>();
   State r2_ = internal::ZeroState<State>(), r3_ = internal::ZeroState<State>(),
         r4_ = internal::ZeroState<State>(), r5_ = internal::ZeroState<State>();
+  State ys_ = internal::ZeroState<State>();  ///< Attempt(): the state of the stage being evaluated
 };
 
 /// Dormand–Prince 8(5,3), DOP853, with its 7th-order dense output (see the file comment).
