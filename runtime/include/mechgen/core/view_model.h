@@ -893,11 +893,16 @@ struct ModelCalls<ViewModel> {
   MECHGEN_ALWAYS_INLINE static ViewSolveReport Rhs(const M& m, const ViewParams& p, const T::RhsConstantsOut& rc,
                                                    const double* q, const double* qd, double t, const Modes& modes,
                                                    Trig* trig, T::RhsOut* r) {
+    PlaceRhs(m, r);
+    return RhsPlaced(m, p, rc, q, qd, t, modes, trig, r);
+  }
+  /// r's members as maps of its buffer at m's offsets and sizes (a Map is trivially
+  /// destructible: placed anew over the last ones). Rhs() places them at every call; an r kept
+  /// with its model (a simulation's) once, and then RhsPlaced().
+  MECHGEN_ALWAYS_INLINE static void PlaceRhs(const M& m, T::RhsOut* r) {
     const ViewModel::DynamicsLayouts::Rhs& l = m.dynamics_layouts.rhs;
     double* const b = r->buffer.data();
     const int nq = m.have.nq, nphi = m.have.nphi;
-    // The members as maps of the buffer (a Map is trivially destructible): nothing copied. Placed
-    // before the call, right over the ones RhsOut() placed: the compiler drops those stores.
     using MatMap = T::RhsOut::MatMap;
     using VecMap = T::RhsOut::VecMap;
     new (&r->K) MatMap(b + l.K, nphi, nq);
@@ -905,6 +910,14 @@ struct ModelCalls<ViewModel> {
     new (&r->h) VecMap(b + l.h, nq);
     new (&r->Q) VecMap(b + l.Q, nq);
     new (&r->Phi_phi) MatMap(b + l.Phi_phi, nphi, nphi);
+  }
+  /// Rhs() into an r whose maps PlaceRhs(m, r) placed (or a copy of such an r: RhsOut's copy
+  /// places its own): the call, and T, V and P_nc read out.
+  MECHGEN_ALWAYS_INLINE static ViewSolveReport RhsPlaced(const M& m, const ViewParams& p, const T::RhsConstantsOut& rc,
+                                                         const double* q, const double* qd, double t,
+                                                         const Modes& modes, Trig* trig, T::RhsOut* r) {
+    const ViewModel::DynamicsLayouts::Rhs& l = m.dynamics_layouts.rhs;
+    double* const b = r->buffer.data();
     // The buffer is not initialized: the generated Rhs stores every entry of its struct (the
     // fixed-size instantiation reads its RhsT, left uninitialized, after the same call), or
     // returns a status other than kConverged, after which nothing is read.

@@ -290,6 +290,33 @@ struct Sample {
   bool stuck = false;  ///< stuck by static friction (qd = qdd = 0); several inputs: any joint stuck
   /// Several inputs: joint J stuck (holding its input at rest); one input: every entry = stuck.
   std::array<bool, internal::MinimalCoulomb<M>::kMaxFriction> joint_stuck{};
+
+  Sample() = default;
+  Sample(const Sample&) = default;
+  /// Every member, the vectors and K by Assign (core/model_calls.h): Eigen's assignment at a
+  /// generated model's fixed sizes; at the view's bounded ones a resize and a few stores each,
+  /// where Eigen's dynamic-size assignment calls its loops (a simulation copies a sample at
+  /// every step).
+  Sample& operator=(const Sample& o) {
+    t = o.t;
+    ::mechgen::Assign(&q, o.q);
+    ::mechgen::Assign(&qd, o.qd);
+    ::mechgen::Assign(&qdd, o.qdd);
+    ::mechgen::Assign(&Q, o.Q);
+    ::mechgen::Assign(&phi, o.phi);
+    ::mechgen::Assign(&K, o.K);
+    T = o.T;
+    V = o.V;
+    E = o.E;
+    W = o.W;
+    P_nc = o.P_nc;
+    rcond = o.rcond;
+    det = o.det;
+    ::mechgen::Assign(&friction, o.friction);
+    stuck = o.stuck;
+    joint_stuck = o.joint_stuck;
+    return *this;
+  }
 };
 
 /// No load of the caller: the model's own Q only.
@@ -391,7 +418,13 @@ class MinimalDynamics {
         options_(options),
         integrator_(options.integrator),
         load_(std::move(load)),
-        tracker_(model, options.max_solver_iterations, options.solver_tolerance) {}
+        tracker_(model, options.max_solver_iterations, options.solver_tolerance) {
+    // Through the view, rhs_'s maps of its buffer placed once, for this model (its copies
+    // place their own): the right-hand side calls Calls::RhsPlaced.
+    if constexpr (Calls::kView && kStagesByRhs) {
+      if (stages_by_rhs_) Calls::PlaceRhs(model_, &rhs_);
+    }
+  }
 
   const M& model() const { return model_; }
   /// The model's inputs (kNq, or the view's at run time).
@@ -1124,21 +1157,26 @@ class MinimalDynamics {
   template <class MatI, class VecF>
   bool SolveInertia(const MatI& I, const VecF& f, VecQ* qdd) {
     if constexpr (kNq == Eigen::Dynamic) {
-      singular_inertia_ = false;
       if (Nq() == 1) {
-        const double I00 = I(0, 0);
-        if (!(I00 > 0) || !std::isfinite(I00)) {
-          singular_inertia_ = true;
-          return false;
-        }
         qdd->resize(1);
-        (*qdd)(0) = f(0) / I00;
-        return std::isfinite((*qdd)(0));  // (qdd->allFinite(), without Eigen's reduction)
+        return SolveInertia1(I(0, 0), f(0), qdd->data());
       }
+      singular_inertia_ = false;
       return SolveInertiaFixed<2>(I, f, qdd);
     } else {
       return SolveInertiaOf(Eigen::Matrix<double, kNq, kNq>(I), VecQ(f), qdd);
     }
+  }
+  /// The one-input case of a Dynamic I (the view's): qdd = f / I, false (singular_inertia_)
+  /// unless I > 0 and finite, or where qdd is not finite.
+  MECHGEN_ALWAYS_INLINE bool SolveInertia1(double I00, double f0, double* qdd) {
+    singular_inertia_ = false;
+    if (!(I00 > 0) || !std::isfinite(I00)) {
+      singular_inertia_ = true;
+      return false;
+    }
+    *qdd = f0 / I00;
+    return std::isfinite(*qdd);  // (qdd->allFinite(), without Eigen's reduction)
   }
   /// The inertia solve of a Dynamic I of size k or more, on a k x k copy.
   template <int k, class MatI, class VecF>
@@ -1196,25 +1234,41 @@ class MinimalDynamics {
   }
 
   /// The sample at (t, y) from the last Derivative() call, if it was at exactly (t, y).
-  bool FromCache(double t, const State& y, SampleT* s) const {
-    if (!last_.valid || last_.t != t || last_.y != y) return false;
-    *s = last_.sample;
-    s->t = t;
-    s->q = QOf(y);
-    s->qd = QdOf(y);
-    s->W = y(2 * Nq());
-    if constexpr (kStagesByRhs) {
-      if (last_.by_rhs) {
+  /// (By M::Rhs it takes the predictor, once: last_.predicted.)
+  bool FromCache(double t, const State& y, SampleT* s) {
+    if (!last_.valid || last_.t != t || !SameState(last_.y, y)) return false;
+    bool by_rhs = false;
+    if constexpr (kStagesByRhs) by_rhs = last_.by_rhs;
+    if (by_rhs) {
+      if constexpr (kStagesByRhs) {
         // By M::Rhs: its outputs read where it wrote them (CacheRhs keeps only the state and
-        // qdd), the predictor taken now, from the reference of the evaluation.
-        if (!last_.predicted) s->phi = Predictor(s->q);
-        s->K = rhs_.K;
-        s->Q = rhs_.Q;
+        // qdd), the predictor taken from the reference of the evaluation (now, or by
+        // SetReference() before it moved) and kept, so that it is taken once. The sample's
+        // other members are the cache's (as *s = last_.sample), member by member: the rest
+        // of it is written below.
+        // (Assign: Eigen's assignment at a fixed size; at the view's bounded Dynamic one a
+        // resize and a few stores, where Eigen's dynamic-size assignment calls its loops.)
+        if (!last_.predicted) {
+          last_.sample.phi = Predictor(QOf(y));
+          last_.predicted = true;
+        }
+        ::mechgen::Assign(&s->phi, last_.sample.phi);
+        ::mechgen::Assign(&s->qdd, last_.sample.qdd);
+        ::mechgen::Assign(&s->K, rhs_.K);
+        ::mechgen::Assign(&s->Q, rhs_.Q);
         s->T = rhs_.T;
         s->V = rhs_.V;
         s->P_nc = rhs_.P_nc;
+        ::mechgen::Assign(&s->friction, last_.sample.friction);
+        s->stuck = last_.sample.stuck;
+        s->joint_stuck = last_.sample.joint_stuck;
       }
+    } else {
+      *s = last_.sample;
     }
+    s->t = t;
+    StateInto(y, &s->q, &s->qd);
+    s->W = y(2 * Nq());
     s->E = s->T + s->V;
     if constexpr (kStagesByTrig) {
       // The angles from their sin and cos, within pi of the predictor (sample.phi); with
@@ -1228,9 +1282,16 @@ class MinimalDynamics {
       }
     }
     if constexpr (kStagesByRhs) {
-      if (last_.by_rhs) {
-        const typename Types::MatCPhi Phi_phi = rhs_.Phi_phi;
-        internal::ConditioningOf(Phi_phi, &s->rcond, &s->det);
+      if (by_rhs) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(rhs_.Phi_phi)>, typename Types::MatCPhi>) {
+          internal::ConditioningOf(rhs_.Phi_phi, &s->rcond, &s->det);
+        } else {
+          // (the view's map of its buffer, read through the const map that
+          // ConditionAndDeterminantDynamic is instantiated for: no copy of its bounded size)
+          const Eigen::Map<const Eigen::MatrixXd> Phi_phi(rhs_.Phi_phi.data(), rhs_.Phi_phi.rows(),
+                                                          rhs_.Phi_phi.cols());
+          internal::ConditioningOf(Phi_phi, &s->rcond, &s->det);
+        }
         return true;
       }
     }
@@ -1269,12 +1330,30 @@ class MinimalDynamics {
     const int nq = Nq();
     const double* const q = y.data();
     const double* const qd = q + nq;
-    auto& r = rhs_;
-    const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, tracker_.modes(), &last_.trig, &r);
+    auto& r = rhs_;  // (its maps placed by the constructor)
+    const auto report =
+        Calls::RhsPlaced(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, tracker_.modes(), &last_.trig, &r);
     if (report.status != decltype(report.status)::kConverged) {
       last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
       ++position_failures_;
       return false;
+    }
+    if (nq == 1) {
+      // One input (most models): the same on the buffer's entries, no VecQ (a bounded vector
+      // and its size) between them.
+      double qdd0 = 0;
+      if (!SolveInertia1(r.I.data()[0], r.Q.data()[0] - r.h.data()[0], &qdd0)) return false;
+      if (caching_) {
+        CacheRhsState(t, y);
+        last_.sample.qdd.resize(1);
+        last_.sample.qdd(0) = qdd0;
+      }
+      dy->resize(3);
+      double* const d = dy->data();
+      d[0] = qd[0];  // (dy may be y: qd[0] is y(1), read before d[1] is written)
+      d[1] = qdd0;
+      d[2] = r.P_nc;
+      return true;
     }
     auto qdd = Sized<VecQ>(nq);
     if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
@@ -1290,9 +1369,13 @@ class MinimalDynamics {
   /// the rest where FromCache() reads it (rhs_, and its sin and cos in last_.trig), and the
   /// predictor is taken there (or by SetReference(), before the reference moves).
   void CacheRhs(double t, const State& y, const VecQ& qdd) {
+    CacheRhsState(t, y);
+    ::mechgen::Assign(&last_.sample.qdd, qdd);
+  }
+  /// CacheRhs() but qdd (which the caller writes).
+  MECHGEN_ALWAYS_INLINE void CacheRhsState(double t, const State& y) {
     last_.t = t;
-    last_.y = y;
-    last_.sample.qdd = qdd;
+    ::mechgen::Assign(&last_.y, y);  // (at every evaluation: see FromCache() on Assign)
     last_.by_rhs = true;
     last_.predicted = false;
     last_.valid = true;
@@ -1371,6 +1454,32 @@ class MinimalDynamics {
   // ---- the state's parts and the warm start, at the model's sizes ----
   // (The view: the entries copied by ::mechgen::internal::CopyEntries, without Eigen's
   // dynamic-size assignment, whose set-up costs more than a small model's few entries.)
+  /// *q = QOf(y) and *qd = QdOf(y), written in place (no VecQ returned: the view's a copy).
+  MECHGEN_ALWAYS_INLINE void StateInto(const State& y, VecQ* q, VecQ* qd) const {
+    if constexpr (kNq != Eigen::Dynamic) {
+      *q = y.template head<kNq>();
+      *qd = y.template segment<kNq>(kNq);
+    } else {
+      const int nq = Nq();
+      q->resize(nq);
+      qd->resize(nq);
+      ::mechgen::internal::CopyEntries(y.data(), nq, q->data());
+      ::mechgen::internal::CopyEntries(y.data() + nq, nq, qd->data());
+    }
+  }
+  /// a == b entry by entry (Eigen's == at a fixed size; at a Dynamic one a loop, and false
+  /// where the sizes differ). A NaN equals nothing, as with Eigen's.
+  static bool SameState(const State& a, const State& b) {
+    if constexpr (kN != Eigen::Dynamic) {
+      return a == b;
+    } else {
+      if (a.size() != b.size()) return false;
+      for (Eigen::Index i = 0; i < a.size(); ++i) {
+        if (!(a(i) == b(i))) return false;
+      }
+      return true;
+    }
+  }
   VecQ QOf(const State& y) const {
     if constexpr (kNq != Eigen::Dynamic) {
       return y.template head<kNq>();
