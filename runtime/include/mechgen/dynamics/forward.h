@@ -1267,7 +1267,8 @@ class MinimalDynamics {
       *s = last_.sample;
     }
     s->t = t;
-    StateInto(y, &s->q, &s->qd);
+    PartInto(y, 0, &s->q);
+    PartInto(y, Nq(), &s->qd);
     s->W = y(2 * Nq());
     s->E = s->T + s->V;
     if constexpr (kStagesByTrig) {
@@ -1454,17 +1455,13 @@ class MinimalDynamics {
   // ---- the state's parts and the warm start, at the model's sizes ----
   // (The view: the entries copied by ::mechgen::internal::CopyEntries, without Eigen's
   // dynamic-size assignment, whose set-up costs more than a small model's few entries.)
-  /// *q = QOf(y) and *qd = QdOf(y), written in place (no VecQ returned: the view's a copy).
-  MECHGEN_ALWAYS_INLINE void StateInto(const State& y, VecQ* q, VecQ* qd) const {
+  /// *v = the Nq() entries of y from `first` (0: q, Nq(): qd), written in place.
+  MECHGEN_ALWAYS_INLINE void PartInto(const State& y, int first, VecQ* v) const {
     if constexpr (kNq != Eigen::Dynamic) {
-      *q = y.template head<kNq>();
-      *qd = y.template segment<kNq>(kNq);
+      *v = y.template segment<kNq>(first);
     } else {
-      const int nq = Nq();
-      q->resize(nq);
-      qd->resize(nq);
-      ::mechgen::internal::CopyEntries(y.data(), nq, q->data());
-      ::mechgen::internal::CopyEntries(y.data() + nq, nq, qd->data());
+      v->resize(Nq());
+      ::mechgen::internal::CopyEntries(y.data() + first, Nq(), v->data());
     }
   }
   /// a == b entry by entry (Eigen's == at a fixed size; at a Dynamic one a loop, and false
@@ -1481,22 +1478,14 @@ class MinimalDynamics {
     }
   }
   VecQ QOf(const State& y) const {
-    if constexpr (kNq != Eigen::Dynamic) {
-      return y.template head<kNq>();
-    } else {
-      VecQ q(Nq());
-      ::mechgen::internal::CopyEntries(y.data(), Nq(), q.data());
-      return q;
-    }
+    VecQ q;
+    PartInto(y, 0, &q);
+    return q;
   }
   VecQ QdOf(const State& y) const {
-    if constexpr (kNq != Eigen::Dynamic) {
-      return y.template segment<kNq>(kNq);
-    } else {
-      VecQ qd(Nq());
-      ::mechgen::internal::CopyEntries(y.data() + Nq(), Nq(), qd.data());
-      return qd;
-    }
+    VecQ qd;
+    PartInto(y, Nq(), &qd);
+    return qd;
   }
   /// *y = (a, b, w): a state (q, qd, W) or its derivative (qd, qdd, P_nc).
   void SetDerivative(const VecQ& a, const VecQ& b, double w, State* y) const {

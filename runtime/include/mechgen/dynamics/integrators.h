@@ -577,11 +577,15 @@ class AdaptiveRungeKutta {
   /// N, or the state's size where N is Dynamic.
   double Size() const { return N != Eigen::Dynamic ? double(N) : double(y_.size()); }
 
-  /// RMS of e / (atol + rtol max(|y|, |y_new|)).
+  /// The error's scale at entry i: atol + rtol max(|y_i|, |y_new_i|).
+  double ErrorScale(Eigen::Index i, double y_new_i) const {
+    return options_.atol + options_.rtol * std::max(std::abs(y_(i)), std::abs(y_new_i));
+  }
+  /// The sum of (e / ErrorScale)^2 (its RMS the step's error).
   double ScaledSquares(const State& e, const State& y_new) const {
     double s = 0;
     for (int i = 0; i < e.size(); ++i) {
-      const double sk = options_.atol + options_.rtol * std::max(std::abs(y_(i)), std::abs(y_new(i)));
+      const double sk = ErrorScale(i, y_new(i));
       s += (e(i) / sk) * (e(i) / sk);
     }
     return s;
@@ -675,8 +679,7 @@ class Dopri5 : public AdaptiveRungeKutta<N, Dopri5<N>> {
     for (Eigen::Index i = 0; i < n; ++i) {
       const double e = h * (T::e1 * k1(i) + T::e3 * k3_(i) + T::e4 * k4_(i) + T::e5 * k5_(i) +
                             T::e6 * k6_(i) + T::e7 * (*f_new)(i));
-      const double sk = this->options_.atol +
-                        this->options_.rtol * std::max(std::abs(y(i)), std::abs((*y_new)(i)));
+      const double sk = this->ErrorScale(i, (*y_new)(i));
       s += (e / sk) * (e / sk);
     }
     *err = std::sqrt(s / this->Size());
