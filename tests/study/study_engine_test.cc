@@ -1,6 +1,7 @@
 // Design studies of the engine cycle per sample (issue 29): the crank and rod grid against the
 // gas work by hand and the engine run directly, the columns of the cycle and the loop by name,
-// a pressure table, and the errors.
+// a pressure table, and the errors. The engine's studies and cycles through its view
+// (Study<ViewModel>, the cycle compiled once: machines/view_machines.h).
 #include "study_test_common.h"
 
 namespace {
@@ -10,29 +11,32 @@ using namespace mechgen_study_test;  // NOLINT (the tests' shared helpers)
 #ifdef MECHGEN_STUDY_TEST_ENGINE
 // ---- the engine cycle per sample ---------------------------------------------------------------
 
+// The engine's model through its view.
+mechgen::ViewModel EngineModel() { return mechgen::ViewModel(mech::engine_single::View()); }
+
 // The engine analysis of one design run directly (machines/engine/cycle.h, as `engine_single_engine
-// flywheel` runs it): the energy loop, the model's J_fly and the crank speed.
+// flywheel` runs it; the cycle the library's, machines/view_machines.h): the energy loop, the
+// model's J_fly and the crank speed.
 struct DirectEngine {
   mechgen::engine::EngineEnergy energy;
   double J_fly = 0;
-  std::vector<mechgen::engine::CrankPoint<mech::engine_single::Model>> pts;  ///< the cycle's crank angles
-  int R_O = -1;                                                                ///< the main bearing's reaction
+  std::vector<mechgen::engine::CrankPoint<mechgen::ViewModel>> pts;  ///< the cycle's crank angles
+  int R_O = -1;                                                        ///< the main bearing's reaction
 };
 DirectEngine RunEngineDirectly(double r, double l, double rpm, int samples, const mechgen::engine::PressureTable* table) {
-  using M = mech::engine_single::Model;
   namespace eng = mechgen::engine;
-  M::ParamsT<double> p;
-  p.r = r, p.l = l;
+  const mechgen::ViewModel model = EngineModel();
+  mechgen::ViewParams p = ViewParamsOf(model, {{"r", r}, {"l", l}});
   DirectEngine out;
   eng::Engine e;
   std::string error;
-  EXPECT_TRUE(eng::ReadEngine<M>(&p, &e, &error)) << error;
+  EXPECT_TRUE(eng::ReadEngine(model, &p, &e, &error)) << error;
   eng::PolytropicWiebeCycle wiebe;
   eng::PressureLaw law;
   EXPECT_TRUE(eng::InitPressureLaw(e, eng::PolytropicWiebeParams(), table, &wiebe, &law, &error)) << error;
-  const eng::CycleGas gas = eng::MakeGas(&p, e, &law);
-  std::vector<eng::CrankPoint<M>> pts;
-  EXPECT_TRUE(eng::RunCycle<M>(p, e, gas, rpm * 2 * 3.14159265358979323846 / 60, samples, &pts, &error)) << error;
+  const eng::CycleGas gas = eng::MakeGas(model, &p, e, &law);
+  std::vector<eng::CrankPoint<mechgen::ViewModel>> pts;
+  EXPECT_TRUE(eng::RunCycle(model, p, e, gas, rpm * 2 * 3.14159265358979323846 / 60, samples, &pts, &error)) << error;
   out.energy = eng::EngineEnergyLoop(pts, e);
   out.J_fly = e.J_fly;
   out.pts = pts;
@@ -58,8 +62,8 @@ TEST(StudyEngine, CrankAndRodGridAgainstTheGasWorkByHandAndTheEngineRunDirectly)
                                      "metrics:\n  - {kind: mean_torque}\n  - {kind: peak_torque}\n"
                                      "  - {kind: energy_fluctuation}\n  - {kind: flywheel_inertia, C_s: 0.02}\n"
                                      "  - {kind: speed_fluctuation}\n  - {kind: failures}\n");
-  using M = mech::engine_single::Model;
-  study::Study<M> s;
+  using M = mech::engine_single::Model;  // (its parameters' defaults)
+  study::Study<mechgen::ViewModel> s{EngineModel()};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   EXPECT_EQ(s.Unit(3), "kg m^2");
@@ -134,8 +138,7 @@ TEST(StudyEngine, ColumnsOfTheCycleAndTheLoopByName) {
                                      "  - {kind: at, column: p_1, step: 45}\n  - {kind: max, column: E}\n"
                                      "  - {kind: at, column: E, step: 360}\n  - {kind: at, column: T_mean, step: 7}\n"
                                      "  - {kind: at, column: theta_deg, step: 180}\n");
-  using M = mech::engine_single::Model;
-  study::Study<M> s;
+  study::Study<mechgen::ViewModel> s{EngineModel()};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   EXPECT_EQ(s.Unit(2), "N");
@@ -166,7 +169,7 @@ TEST(StudyEngine, ColumnsOfTheCycleAndTheLoopByName) {
   const study::StudySpec bad = Read("engine_bad.yaml",
                                     "method: grid\nanalysis: engine\nrpm: 3000\nsteps: 360\nparameters:\n"
                                     "  r: {values: [0.04]}\nmetrics:\n  - {kind: max, column: T_req}\n");
-  study::Study<M> b;
+  study::Study<mechgen::ViewModel> b{EngineModel()};
   EXPECT_FALSE(b.Prepare(bad, &error));
   EXPECT_NE(error.find("engine_bad.yaml:8:5: error: no numeric column 'T_req' in the engine's cycle or energy loop "
                        "output of engine_single (columns: theta_deg, T_gas, T_inertia, T_total, p_1, thrust_1, F_O_x"),
@@ -184,8 +187,7 @@ TEST(StudyEngine, PressureTableAgainstTheEngineRunDirectly) {
                                      "parameters:\n  r: {values: [0.041, 0.045]}\n  l: {values: [0.150, 0.142]}\n"
                                      "metrics:\n  - {kind: mean_torque}\n  - {kind: energy_fluctuation}\n"
                                      "  - {kind: flywheel_inertia, C_s: 0.05}\n");
-  using M = mech::engine_single::Model;
-  study::Study<M> s;
+  study::Study<mechgen::ViewModel> s{EngineModel()};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   const std::vector<double> v = study::DrawSamples(spec, s.nominal());
@@ -238,7 +240,7 @@ TEST(StudyEngine, ErrorsNameTheirPlace) {
     const study::StudySpec spec = Read("e6.yaml",
                                        "method: grid\nanalysis: engine\nrpm: 3000\ngas: {table: nosuch.csv}\n"
                                        "parameters:\n  r: {values: [0.04]}\nmetrics: [{kind: mean_torque}]\n");
-    study::Study<mech::engine_single::Model> s;
+    study::Study<mechgen::ViewModel> s{EngineModel()};
     std::string error;
     EXPECT_FALSE(s.Prepare(spec, &error));
     EXPECT_NE(error.find("e6.yaml:4:14: error: gas: table: cannot read the pressure table"), std::string::npos)
@@ -248,7 +250,7 @@ TEST(StudyEngine, ErrorsNameTheirPlace) {
     const study::StudySpec spec = Read("e7.yaml",
                                        "method: grid\nanalysis: engine\nrpm: 3000\ngas: {cr: 0.5}\n"
                                        "parameters:\n  r: {values: [0.04]}\nmetrics: [{kind: mean_torque}]\n");
-    study::Study<mech::engine_single::Model> s;
+    study::Study<mechgen::ViewModel> s{EngineModel()};
     std::string error;
     EXPECT_FALSE(s.Prepare(spec, &error));
     EXPECT_NE(error.find("e7.yaml:4:6: error: the nominal design's engine cycle: pressure law: the compression ratio"),
@@ -271,7 +273,7 @@ TEST(StudyEngine, ErrorsNameTheirPlace) {
     const study::StudySpec p = Read("e9.yaml",
                                     "method: grid\nanalysis: engine\nrpm: 3000\nparameters:\n  k: {values: [1]}\n"
                                     "metrics:\n  - {kind: mean_torque}\n");
-    study::Study<mech::pendulum_spring::Model> s;
+    study::Study<mechgen::ViewModel> s{mechgen::ViewModel(mech::pendulum_spring::View())};
     std::string error;
     EXPECT_FALSE(s.Prepare(p, &error));
     EXPECT_NE(error.find("e9.yaml:2:11: error: analysis: engine: the model pendulum_spring: the model has no "

@@ -14,7 +14,8 @@ using namespace mechgen_study_test;  // NOLINT (the tests' shared helpers)
 // The quick-return shaper of tests/statics (crank r about O2 = (0, d), the slotted rocker about
 // O4 = (0, 0), rocker L, link l, the ram on y = h): a cutting force F on the forward stroke only
 // (crank -30 to 210 deg, where sin theta = -r/d puts the rocker at its extremes), the probe
-// torque off (P = 0). The ram's place by hand, for the work per turn F * stroke.
+// torque off (P = 0). The ram's place by hand, for the work per turn F * stroke. Its studies and
+// machine cycles through its view (Study<ViewModel>, the cycle compiled once).
 double ShaperRamX(double theta, double L, double l) {
   const double r = 0.75, d = 1.5, h = 4.2;
   const double ax = r * std::cos(theta), ay = d + r * std::sin(theta);
@@ -36,8 +37,8 @@ TEST(StudyFlywheel, ShaperGridAgainstTheHandWorkAndLinearInTheForce) {
                                      "  l: {values: [1.5, 1.6]}\n  P: {values: [0]}\n"
                                      "metrics:\n  - {kind: mean_torque}\n  - {kind: flywheel_inertia, C_s: 0.05}\n"
                                      "  - {kind: energy_fluctuation}\n  - {kind: peak_torque}\n  - {kind: failures}\n");
-  using M = mech::shaper::Model;
-  study::Study<M> s;
+  const mechgen::ViewModel model(mech::shaper::View());
+  study::Study<mechgen::ViewModel> s{model};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   EXPECT_EQ(s.Unit(1), "kg m^2");
@@ -61,12 +62,11 @@ TEST(StudyFlywheel, ShaperGridAgainstTheHandWorkAndLinearInTheForce) {
       for (int k = 0; k < 4; ++k) EXPECT_NEAR(big.metrics[k] / results[i].metrics[k], 3, 1e-12) << i << " " << k;
     }
     // The study's figure is the machine cycle's at that design, bit for bit.
-    M::ParamsT<double> p;
-    p.F = F, p.L = L, p.l = l, p.P = 0;
+    const mechgen::ViewParams p = ViewParamsOf(model, {{"F", F}, {"L", L}, {"l", l}, {"P", 0}});
     mechgen::flywheel::MachineCycleOptions o;
     o.omega = 2 * pi;
     o.samples = 720;
-    const mechgen::flywheel::MachineCycle c = mechgen::flywheel::SampleMachineCycle<M>(p, o);
+    const mechgen::flywheel::MachineCycle c = mechgen::flywheel::SampleMachineCycle(model, p, o);
     ASSERT_TRUE(c.IsUsable()) << c.message;
     EXPECT_EQ(results[i].metrics[1], mechgen::flywheel::SizeFlywheel(c, 0.05).I_flywheel);
     EXPECT_EQ(results[i].metrics[1], c.loop.delta_E / (0.05 * 4 * pi * pi));  // massless
@@ -89,8 +89,8 @@ TEST(StudyFlywheel, ColumnsOfTheEnergyLoopByName) {
                                      "  - {kind: min, column: T_req}\n  - {kind: at, column: E, step: 0}\n"
                                      "  - {kind: at, column: theta, step: 0}\n  - {kind: rms, column: T_mean}\n"
                                      "  - {kind: at, column: theta_deg, step: 720}\n");
-  using M = mech::shaper::Model;
-  study::Study<M> s;
+  const mechgen::ViewModel model(mech::shaper::View());
+  study::Study<mechgen::ViewModel> s{model};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   EXPECT_EQ(s.Unit(1), "N m");
@@ -104,12 +104,11 @@ TEST(StudyFlywheel, ColumnsOfTheEnergyLoopByName) {
   for (size_t i = 0; i < results.size(); ++i) {
     ASSERT_STREQ(results[i].status, "ok") << i;
     const std::vector<double>& m = results[i].metrics;
-    M::ParamsT<double> p;
-    p.F = v[3 * i], p.L = v[3 * i + 1], p.P = 0;
+    const mechgen::ViewParams p = ViewParamsOf(model, {{"F", v[3 * i]}, {"L", v[3 * i + 1]}, {"P", 0}});
     mechgen::flywheel::MachineCycleOptions o;
     o.omega = 2 * pi;
     o.samples = 720;
-    const mechgen::flywheel::MachineCycle c = mechgen::flywheel::SampleMachineCycle<M>(p, o);
+    const mechgen::flywheel::MachineCycle c = mechgen::flywheel::SampleMachineCycle(model, p, o);
     ASSERT_TRUE(c.IsUsable()) << c.message;
     EXPECT_EQ(m[0], std::max(std::abs(c.T_max), std::abs(c.T_min))) << i;
     EXPECT_EQ(m[1], c.T_max) << i;
@@ -123,7 +122,7 @@ TEST(StudyFlywheel, ColumnsOfTheEnergyLoopByName) {
   const study::StudySpec bad = Read("flybad.yaml",
                                     "method: grid\nanalysis: flywheel\nomega: 1\nparameters:\n  F: {values: [500]}\n"
                                     "metrics:\n  - {kind: max, column: ram.x}\n");
-  study::Study<M> b;
+  study::Study<mechgen::ViewModel> b{model};
   EXPECT_FALSE(b.Prepare(bad, &error));
   EXPECT_NE(error.find("flybad.yaml:7:5: error: no numeric column 'ram.x' in the flywheel's energy loop output of "
                        "shaper (columns: theta, theta_deg, T_req, T_mean, E, T_static"),
@@ -160,7 +159,8 @@ double RichardsonOfMetric(study::Study<M>* s, const std::vector<double>& nominal
 // The first order of the flywheel metrics (from machines/flywheel/cycle_design.h through
 // Study::Gradient) against Richardson central differences of the study's own metrics,
 // evaluated sample by sample at p +- h (the whole analysis again: an independent route). The
-// damped press of tests/design: smooth loads, so the breaks do not move.
+// damped press of tests/design: smooth loads, so the breaks do not move. Through its view (the
+// generated press's study: the same figures to the bit, StudyView below).
 TEST(StudyFlywheel, FirstOrderOfTheCycleMetricsAgainstDifferencesOfTheStudy) {
   const study::StudySpec spec = Read("press.yaml",
                                      "method: grid\nanalysis: flywheel\nomega: 12.566370614359172\nsteps: 360\n"
@@ -169,8 +169,7 @@ TEST(StudyFlywheel, FirstOrderOfTheCycleMetricsAgainstDifferencesOfTheStudy) {
                                      "metrics:\n  - {kind: mean_torque}\n  - {kind: flywheel_inertia, C_s: 0.05}\n"
                                      "  - {kind: energy_fluctuation}\n  - {kind: peak_torque}\n"
                                      "  - {kind: max, column: T_req}\n");
-  using M = mech::design_press::Model;
-  study::Study<M> s;
+  study::Study<mechgen::ViewModel> s{mechgen::ViewModel(mech::design_press::View())};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   const std::vector<double> nominal = s.nominal();
@@ -201,8 +200,9 @@ TEST(StudyFlywheel, FirstOrderOfTheCycleMetricsAgainstDifferencesOfTheStudy) {
 // their extremes (the sample held) and an rms. The study's runs and the sensitivities' are
 // each integrated to rtol 1e-8 (the simulation's defaults), so differences of the metrics carry
 // ~1e-8 relative noise over h: agreement to 1e-5 relative (measured: worst_relative_error).
-// The kinetic energy's metric has no first order, and says why; through the model view the same
-// figures to the bit (the sensitivities compiled once, runtime/view/analysis_simulate_design.cc).
+// The kinetic energy's metric has no first order, and says why. The study through the model view
+// (the sensitivities compiled once, runtime/view/analysis_simulate_design.cc), and the generated
+// press's the same figures to the bit.
 TEST(StudySimulate, FirstOrderOfTheSimulationMetricsAgainstDifferencesOfTheStudy) {
   const std::string text =
       "method: grid\nanalysis: simulate\nt_end: 0.4\nsteps: 40\nqd0: [6]\n"
@@ -211,8 +211,7 @@ TEST(StudySimulate, FirstOrderOfTheSimulationMetricsAgainstDifferencesOfTheStudy
       "  - {kind: min, column: theta_crank_dot}\n  - {kind: rms, column: theta_crank}\n"
       "  - {kind: at, column: theta_crank_dot, step: 40}\n  - {kind: max, column: T}\n";
   const study::StudySpec spec = Read("psim.yaml", text);
-  using M = mech::design_press::Model;
-  study::Study<M> s;
+  study::Study<mechgen::ViewModel> s{mechgen::ViewModel(mech::design_press::View())};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   const std::vector<double> nominal = s.nominal();
@@ -238,8 +237,8 @@ TEST(StudySimulate, FirstOrderOfTheSimulationMetricsAgainstDifferencesOfTheStudy
   std::string why;
   EXPECT_TRUE(std::isnan(s.Gradient(spec.metrics.size() - 1, &why)[0]));
   EXPECT_NE(why.find("no trajectory sensitivity of the column T"), std::string::npos) << why;
-  // Through the model view: the same values and first order, to the bit (and the same why).
-  ExpectViewFirstOrderSame<M>(mech::design_press::View(), spec);
+  // The generated press's study: the same values and first order, to the bit (and the same why).
+  ExpectViewFirstOrderSame<mech::design_press::Model>(mech::design_press::View(), spec);
 }
 
 // The flywheel's metrics through the model view (the cycle and its design derivatives compiled

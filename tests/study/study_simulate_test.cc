@@ -1,12 +1,8 @@
 // Design studies of the simulation and the positions per sample (issue 29): the pendulum's
 // turning point, peak energy and reactions against hand formulas and the runtime, the driven
-// pendulum, the coupler point against the sweep, and their errors.
+// pendulum, the coupler point against the sweep, and their errors. The pendulum's studies and
+// runs through its view (Study<ViewModel>, the simulation compiled once: core/view_runtime.h).
 #include "study_test_common.h"
-
-#ifdef MECHGEN_STUDY_TEST_PENDULUM
-// The pendulum's study, once for two files (extern in study_test_common.h).
-template class mechgen::study::Study<mech::pendulum_spring::Model>;
-#endif
 
 namespace {
 
@@ -14,6 +10,9 @@ using namespace mechgen_study_test;  // NOLINT (the tests' shared helpers)
 
 #ifdef MECHGEN_STUDY_TEST_PENDULUM
 // ---- the simulation per sample ----------------------------------------------------------------
+
+// The pendulum's model through its view.
+mechgen::ViewModel PendulumModel() { return mechgen::ViewModel(mech::pendulum_spring::View()); }
 
 // The pendulum of tests/runtime (bar OA = l on a pin at O, mass m at c, inertia Jc, gravity g,
 // torsional spring k with free angle theta0, a constant force Fy along y at A) released at rest
@@ -33,8 +32,8 @@ TEST(StudySimulate, PendulumTurningPointPeakEnergyAndReleaseReactionAgainstHandF
       "metrics:\n  - {kind: min, column: theta_bar, name: far}\n  - {kind: max, column: T, name: T_peak}\n"
       "  - {kind: at, column: F_O_x, step: 0, name: Fx0}\n  - {kind: at, column: F_O_y, step: 0, name: Fy0}\n"
       "  - {kind: failures}\n");
-  using M = mech::pendulum_spring::Model;
-  study::Study<M> s;
+  using M = mech::pendulum_spring::Model;  // (its parameters' defaults)
+  study::Study<mechgen::ViewModel> s{PendulumModel()};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   EXPECT_EQ(s.Unit(1), "J");
@@ -107,7 +106,7 @@ TEST(StudySimulate, ErrorsNameTheirPlace) {
   {
     const study::StudySpec spec = Read("s5.yaml", "method: grid\nanalysis: simulate\nt_end: 1\nq0: [0, 1]\n"
                                                   "parameters:\n  k: {values: [1]}\nmetrics: [{kind: failures}]\n");
-    study::Study<mech::pendulum_spring::Model> s;
+    study::Study<mechgen::ViewModel> s{PendulumModel()};
     std::string error;
     EXPECT_FALSE(s.Prepare(spec, &error));
     EXPECT_NE(error.find("s5.yaml:4:5: error: q0: expected 1 value(s), one per input"), std::string::npos) << error;
@@ -116,7 +115,7 @@ TEST(StudySimulate, ErrorsNameTheirPlace) {
     const study::StudySpec spec = Read("s6.yaml", "method: grid\nanalysis: simulate\nt_end: 1\n"
                                                   "parameters:\n  k: {values: [1]}\n"
                                                   "metrics:\n  - {kind: max, column: drive_theta_bar}\n");
-    study::Study<mech::pendulum_spring::Model> s;
+    study::Study<mechgen::ViewModel> s{PendulumModel()};
     std::string error;
     EXPECT_FALSE(s.Prepare(spec, &error));
     EXPECT_NE(error.find("s6.yaml:7:5: error: no numeric column 'drive_theta_bar' in the simulation's output"),
@@ -139,7 +138,8 @@ TEST(StudySimulate, ErrorsNameTheirPlace) {
 // spring, tip force), and the pin's force from Newton on the bar with a_G = -omega^2 c e_r:
 // F_O = (-m omega^2 c cos, -m omega^2 c sin + m g - Fy). The study's peaks against those at every
 // sample, and against PrescribedDynamics run directly (as `pendulum_spring_simulate --drive
-// theta_bar=speed:2`), bit for bit; 1 and 2 threads the same bytes.
+// theta_bar=speed:2`; through the view, as `mechgen_view simulate`), bit for bit; 1 and 2
+// threads the same bytes.
 TEST(StudySimulate, DrivenPendulumPeakTorqueAndBearingAgainstHandFormulasAndTheRuntime) {
   const double t_end = 1.5, omega = 2;
   const int steps = 300;
@@ -149,8 +149,9 @@ TEST(StudySimulate, DrivenPendulumPeakTorqueAndBearingAgainstHandFormulasAndTheR
       "parameters:\n  k: {values: [0, 3]}\n  Fy: {values: [0, 4]}\n"
       "metrics:\n  - {kind: peak_drive}\n  - {kind: peak_bearing}\n"
       "  - {kind: at, column: lambda_theta_bar, step: 150, name: lambda_mid}\n  - {kind: failures}\n");
-  using M = mech::pendulum_spring::Model;
-  study::Study<M> s;
+  using M = mech::pendulum_spring::Model;  // (its parameters' defaults)
+  const mechgen::ViewModel model = PendulumModel();
+  study::Study<mechgen::ViewModel> s{model};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   EXPECT_EQ(s.Unit(0), "N m");
@@ -179,29 +180,27 @@ TEST(StudySimulate, DrivenPendulumPeakTorqueAndBearingAgainstHandFormulasAndTheR
     EXPECT_NEAR(one[i].metrics[1], peak_bearing, 1e-9 * peak_bearing) << i;
     EXPECT_NEAR(one[i].metrics[2], lambda(omega * t_end / 2), 1e-9 * (1 + std::abs(lambda(omega * t_end / 2)))) << i;
     EXPECT_EQ(one[i].metrics[3], 0) << i;
-    // The runtime called directly, as the simulate tool's driven run.
-    M::ParamsT<double> p;
-    p.k = k;
-    p.Fy = Fy;
+    // The runtime called directly, as the simulate tool's driven run (the library's).
+    const mechgen::ViewParams p = ViewParamsOf(model, {{"k", k}, {"Fy", Fy}});
     namespace dyn = mechgen::dynamics;
-    using Sim = dyn::PrescribedDynamics<M, 1, dyn::AnyDrive<1>>;
+    using Sim = dyn::ViewPrescribedDopri5;
     dyn::PrescribedOptions options;
     options.sample_dt = t_end / steps;
-    Sim sim(p, std::array<int, 1>{0}, dyn::AnyDrive<1>({dyn::AnyLaw(dyn::ConstantSpeedLaw{0.0, omega, 0.0})}),
-            dyn::NoForce(), options);
+    Sim::Indices driven;
+    driven.push_back(0);
+    Sim sim(model, p, driven, dyn::ViewDrive({dyn::AnyLaw(dyn::ConstantSpeedLaw{0.0, omega, 0.0})}), dyn::NoForce(),
+            options);
     Sim::VecF qf0;
-    ASSERT_TRUE(sim.Initialize(0.0, qf0));
+    ASSERT_TRUE(dyn::InitializePrescribed(&sim, 0.0, qf0));
     double direct = 0;
     int samples = 0;
     dyn::PrescribedSummary summary;
-    sim.Simulate(
-        0.0, qf0, qf0, t_end,
-        [&](const Sim::SampleT& x) {
-          direct = std::max(direct, std::abs(x.lambda(0)));
-          ++samples;
-          return true;
-        },
-        &summary);
+    dyn::ViewSampleFn<Sim> observer = [&](const Sim::SampleT& x) {
+      direct = std::max(direct, std::abs(x.lambda(0)));
+      ++samples;
+      return true;
+    };
+    dyn::SimulatePrescribed(&sim, 0.0, qf0, qf0, t_end, observer, &summary, nullptr);
     EXPECT_EQ(samples, steps + 1);
     EXPECT_EQ(one[i].metrics[0], direct) << i;
     for (size_t q = 0; q < one[i].metrics.size(); ++q) {
@@ -212,11 +211,10 @@ TEST(StudySimulate, DrivenPendulumPeakTorqueAndBearingAgainstHandFormulasAndTheR
 }
 
 TEST(StudySimulate, DriveErrorsNameTheirPlace) {
-  using M = mech::pendulum_spring::Model;
   {
     const study::StudySpec spec = Read("d1.yaml", "method: grid\nanalysis: simulate\nt_end: 1\ndrive: {phi: {speed: 1}}\n"
                                                   "parameters:\n  k: {values: [1]}\nmetrics: [{kind: failures}]\n");
-    study::Study<M> s;
+    study::Study<mechgen::ViewModel> s{PendulumModel()};
     std::string error;
     EXPECT_FALSE(s.Prepare(spec, &error));
     EXPECT_NE(error.find("d1.yaml:4:9: error: drive: the model pendulum_spring has no input 'phi' (its inputs: "

@@ -2,7 +2,9 @@
 // Latin hypercube's strata, the study file's errors, the first-order gradients of the metrics
 // (from the generated design derivatives) against central differences of the analysis itself,
 // the first-order sigma against the slider-crank's closed form and against a Monte-Carlo, and
-// the same results for 1 and 2 threads.
+// the same results for 1 and 2 threads. The four-bar's studies on its generated model (compiled
+// once, below), the other models' through their views (Study<ViewModel>, compiled once in the
+// library).
 // (The machines' analyses per sample: study_machines_test.cc (flywheel), study_simulate_test.cc
 // (simulation, positions), study_engine_test.cc; the four compile in parallel.)
 #include "study_test_common.h"
@@ -204,10 +206,11 @@ TEST(StudyGrid, FourbarCouplerPointAgainstClosedForm) {
 
 // The gradient of each differentiable metric at the nominal (generated design derivatives at
 // the row where it is taken) against central differences of the metric itself, each
-// parameter moved by +-h and the whole analysis run again.
+// parameter moved by +-h and the whole analysis run again. (model: a generated model, or a
+// ViewModel.)
 template <class M>
-void CheckGradients(const study::StudySpec& spec, double h, double tolerance) {
-  study::Study<M> s;
+void CheckGradients(const M& model, const study::StudySpec& spec, double h, double tolerance) {
+  study::Study<M> s{model};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   typename study::Study<M>::Rows plus, minus;
@@ -240,7 +243,7 @@ TEST(StudyFirstOrder, FourbarGradientsAgainstCentralDifferences) {
            "  - {kind: max, column: K_theta_rocker_theta_crank}\n  - {kind: rms, column: theta_rocker_dot}\n"
            "  - {kind: design_margin}\n");
   // h = 1e-6: truncation ~ h^2 f''' and rounding ~ eps / h, both below 1e-7 here.
-  CheckGradients<mech::fourbar::Model>(spec, 1e-6, 1e-6);
+  CheckGradients(mech::fourbar::Model(), spec, 1e-6, 1e-6);
 }
 
 TEST(StudyFirstOrder, LoadedFourbarStaticsGradientsAgainstCentralDifferences) {
@@ -250,7 +253,7 @@ TEST(StudyFirstOrder, LoadedFourbarStaticsGradientsAgainstCentralDifferences) {
            "  a: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  k: {tolerance: 1}\n"
            "metrics:\n  - {kind: peak_drive}\n  - {kind: peak_bearing}\n"
            "  - {kind: at, column: F_B_x, step: 40}\n  - {kind: rms, column: drive_theta_crank}\n");
-  CheckGradients<mech::fourbar_loaded::Model>(spec, 1e-6, 1e-6);
+  CheckGradients(mechgen::ViewModel(mech::fourbar_loaded::View()), spec, 1e-6, 1e-6);
 }
 
 // ---- first order against a closed form and a Monte-Carlo --------------------------------------
@@ -278,8 +281,7 @@ TEST(StudyFirstOrder, SliderCrankPistonSigma) {
                                      "  a: {distribution: normal, sigma: 0.002}\n"
                                      "  b: {distribution: normal, sigma: 0.003}\n"
                                      "metrics:\n  - {kind: at, column: slider.C.x, step: 0}\ntolerance: true\n");
-  using M = mech::slider_crank::Model;
-  study::Study<M> s;
+  study::Study<mechgen::ViewModel> s{mechgen::ViewModel(mech::slider_crank::View())};
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   const double a = 1.0, b = 3.2, e = 0.4, th = M_PI / 3;

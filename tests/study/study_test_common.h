@@ -1,7 +1,7 @@
 // What the study tests share (study_test.cc, study_machines_test.cc, study_simulate_test.cc,
 // study_engine_test.cc): the includes, the models' views, the study files written to the test's
-// temporary directory, and the check of the study through the model view against the generated
-// model's.
+// temporary directory, a view's parameters by name, and the check of the study through the model
+// view against the generated model's.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -13,9 +13,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fourbar.h"
@@ -24,7 +26,7 @@
 #include "mechgen/io/csv.h"
 #include "mechgen/io/yaml_strict.h"
 #include "mechgen/machines/view_machines.h"  // (before study/run.h: the view's machines compiled once)
-#include "mechgen/analysis/study.h"
+#include "mechgen/analysis/view_analysis.h"    // (analysis/study.h; Study<ViewModel> extern: the library's)
 #include "mechgen/study/random.h"
 #include "mechgen/study/rows.h"
 #include "mechgen/study/run.h"
@@ -32,38 +34,54 @@
 #include "mechgen/study/shards.h"
 #include "mechgen/study/spec.h"
 #include "mechgen/study/tolerance.h"
-#include "slider_crank.h"
-#ifdef MECHGEN_STUDY_TEST_SHAPER
-#include "mechgen/machines/flywheel/machine_cycle.h"
-#include "shaper.h"
-#endif
 #ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
 #include "design_press.h"
-namespace mech::design_press {
-const mechgen::ModelView& View();
-}
 #endif
 #ifdef MECHGEN_STUDY_TEST_PENDULUM
-#include "pendulum_spring.h"
+#include "pendulum_spring.h"  // (its parameters' defaults, for the hand formulas)
 #endif
 #ifdef MECHGEN_STUDY_TEST_ENGINE
-#include "engine_single.h"
+#include "engine_single.h"  // (its parameters' defaults, for the hand formulas)
 #endif
 
-// The models' views (generated/<model>_view.cc, in their libraries).
+// The models' views (generated/<model>_view.cc, in their libraries). The studies and the
+// machines of every model but the four-bar run through them (Study<ViewModel> and the machines
+// compiled once, in mechgen_runtime_view); of the generated models' studies, the four-bar's is
+// compiled once (study_test.cc), the loaded four-bar's and the press's only for
+// ExpectViewFirstOrderSame.
 namespace mech::fourbar {
 const mechgen::ModelView& View();
 }
 namespace mech::fourbar_loaded {
 const mechgen::ModelView& View();
 }
-
-// The study of the four-bar (every test file's) and of the pendulum (two files') compiled once,
-// in study_test.cc and study_simulate_test.cc; the view's in the library (view_analysis.h).
-extern template class mechgen::study::Study<mech::fourbar::Model>;
-#ifdef MECHGEN_STUDY_TEST_PENDULUM
-extern template class mechgen::study::Study<mech::pendulum_spring::Model>;
+namespace mech::slider_crank {
+const mechgen::ModelView& View();
+}
+#ifdef MECHGEN_STUDY_TEST_SHAPER
+namespace mech::shaper {
+const mechgen::ModelView& View();
+}
 #endif
+#ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
+namespace mech::design_press {
+const mechgen::ModelView& View();
+}
+#endif
+#ifdef MECHGEN_STUDY_TEST_PENDULUM
+namespace mech::pendulum_spring {
+const mechgen::ModelView& View();
+}
+#endif
+#ifdef MECHGEN_STUDY_TEST_ENGINE
+namespace mech::engine_single {
+const mechgen::ModelView& View();
+}
+#endif
+
+// The study of the four-bar (every test file's) compiled once, in study_test.cc; the view's in
+// the library (view_analysis.h).
+extern template class mechgen::study::Study<mech::fourbar::Model>;
 
 namespace mechgen_study_test {
 
@@ -91,6 +109,21 @@ inline std::string ErrorOf(const std::string& name, const std::string& text) {
 }
 
 // ---- through the model view (issue 43) ---------------------------------------------------------
+
+// A model's parameters through its view: the defaults, the free ones in `values` set by name,
+// then the derived ones (as the study sets a sample's).
+using ViewCalls = mechgen::ModelCalls<mechgen::ViewModel>;
+inline mechgen::ViewParams ViewParamsOf(const mechgen::ViewModel& model,
+                                        std::initializer_list<std::pair<const char*, double>> values) {
+  mechgen::ViewParams p = ViewCalls::DefaultParams(model);
+  for (const auto& [name, value] : values) {
+    double* x = ViewCalls::FindParameter(model, &p, name);
+    EXPECT_NE(x, nullptr) << name;
+    if (x != nullptr) *x = value;
+  }
+  ViewCalls::ParametersSet(model, &p);
+  return p;
+}
 
 // The study through the model view (Study<ViewModel>, the runtime compiled once, the view's
 // Design, StaticsDesign and DesignChecks) against the generated model's: each metric at the
