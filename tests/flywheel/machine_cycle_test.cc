@@ -1,6 +1,8 @@
 // Flywheel sizing of any one-DOF machine (machines/flywheel/machine_cycle.h) against hand
 // energy loops written here from the machines' own closed-form geometry (independent of the
-// generated code), and its simulated check.
+// generated code), and its simulated check. The sizing, its check, the kinetostatics and the
+// statics run through the models' views (mechgen_runtime_view: machines/view_machines.h,
+// core/view_runtime.h, compiled once); WithFlywheel<M>'s own tests stay on the generated types.
 //  - The quick-return shaper of tests/statics/models/shaper.yaml (massless; the probe torque
 //    P set to 0): a cutting force F resists the ram on the forward stroke (crank -30 .. 210 deg)
 //    only. T_req dtheta = F |dx|, so T_mean = F stroke / (2 pi) and
@@ -24,27 +26,55 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <initializer_list>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "common/gnuplot.h"
-#include "crusher.h"
-#include "fourbar_loaded.h"
 #include "fourbar_massive.h"
+#include "mechgen/core/view_runtime.h"
 #include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
+#include "mechgen/machines/view_machines.h"
 #include "punch_press.h"
-#include "shaper.h"
-#include "shaper_cutting.h"
 
 namespace {
 
 namespace fw = mechgen::flywheel;
 }  // namespace
-// The model view of the massive four-bar (its <name>_view.cc, in its model library).
+// The models' views (their <name>_view.cc, in their model libraries).
+MECHGEN_DECLARE_MODEL_VIEW(crusher)
+MECHGEN_DECLARE_MODEL_VIEW(fourbar_loaded)
 MECHGEN_DECLARE_MODEL_VIEW(fourbar_massive)
+MECHGEN_DECLARE_MODEL_VIEW(punch_press)
+MECHGEN_DECLARE_MODEL_VIEW(shaper)
+MECHGEN_DECLARE_MODEL_VIEW(shaper_cutting)
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180;
+
+using View = mechgen::ViewModel;
+using CV = mechgen::ModelCalls<View>;
+using ViewVecQ = mechgen::ModelTypes<View>::VecQ;
+
+// The view's default parameters with those named set (the derived ones brought up to date).
+mechgen::ViewParams ParamsOf(const View& model, std::initializer_list<std::pair<const char*, double>> set = {}) {
+  mechgen::ViewParams p = CV::DefaultParams(model);
+  for (const auto& [name, value] : set) {
+    double* v = CV::FindParameter(model, &p, name);
+    EXPECT_NE(v, nullptr) << name;
+    if (v != nullptr) *v = value;
+  }
+  CV::ParametersSet(model, &p);
+  return p;
+}
+// The parameter `name` of p.
+double Param(const View& model, mechgen::ViewParams p, const char* name) {
+  const double* v = CV::FindParameter(model, &p, name);
+  EXPECT_NE(v, nullptr) << name;
+  return v != nullptr ? *v : std::nan("");
+}
 
 // ---- the shaper's geometry by hand: crank O2A = r about O2 = (0, d), the block A slides in
 // the rocker through O4 = (0, 0), rocker O4B = L, link BC = l, ram C on y = h (C to the right
@@ -76,9 +106,8 @@ double GoldenMax(const std::function<double(double)>& f, double a, double b, dou
 }
 
 TEST(FlywheelShaper, EnergyLoopAgainstTheHandLoop) {
-  using M = mech::shaper::Model;
-  M::ParamsT<double> p;
-  p.P = 0;  // the probe torque off: the cut alone
+  const View model(mech::shaper::View());
+  const mechgen::ViewParams p = ParamsOf(model, {{"P", 0.0}});  // the probe torque off: the cut alone
   const Shaper s;
   const double theta0 = -30 * kDeg, theta_end = 210 * kDeg;
   const double stroke = s.x(theta0) - s.x(theta_end);
@@ -121,7 +150,7 @@ TEST(FlywheelShaper, EnergyLoopAgainstTheHandLoop) {
       o.omega = omega;
       o.samples = n;
       if (breaks) o.breaks = {theta0, theta_end};
-      const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+      const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
       ASSERT_TRUE(c.IsUsable()) << c.message;
       ASSERT_EQ(static_cast<int>(c.points.size()), n);
       EXPECT_FALSE(c.has_dynamics);
@@ -172,7 +201,7 @@ TEST(FlywheelShaper, EnergyLoopAgainstTheHandLoop) {
     o.omega = omega;
     o.samples = n;
     o.breaks = {theta_end, theta0 + 2 * kPi};  // the start's break given as the cycle's end
-    const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+    const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
     ASSERT_TRUE(c.IsUsable()) << c.message;
     ASSERT_EQ(c.breaks.size(), 2u);
     EXPECT_NEAR(c.breaks[0], theta0, 1e-12);
@@ -194,7 +223,7 @@ TEST(FlywheelShaper, EnergyLoopAgainstTheHandLoop) {
     previous = worst;
     if (n == 700) {
       o.breaks.clear();
-      const fw::MachineCycle plain = fw::SampleMachineCycle<M>(p, o);
+      const fw::MachineCycle plain = fw::SampleMachineCycle(model, p, o);
       ASSERT_TRUE(plain.IsUsable());
       double off = 0;
       for (const fw::CyclePoint& pt : plain.points) off = std::max(off, std::abs(pt.E - E_hand(pt.theta)));
@@ -206,31 +235,30 @@ TEST(FlywheelShaper, EnergyLoopAgainstTheHandLoop) {
   o.omega = omega;
   o.samples = 700;
   o.breaks = {theta_end, theta_end + 1.5 * 2 * kPi / 700};
-  const fw::MachineCycle close = fw::SampleMachineCycle<M>(p, o);
+  const fw::MachineCycle close = fw::SampleMachineCycle(model, p, o);
   EXPECT_EQ(close.status, fw::CycleStatus::kBadOptions);
   EXPECT_NE(close.message.find("closer than 3"), std::string::npos) << close.message;
 }
 
 TEST(FlywheelShaper, StatusesNotNumbers) {
-  using M = mech::shaper::Model;
-  M::ParamsT<double> p;
+  const View model(mech::shaper::View());
+  mechgen::ViewParams p = ParamsOf(model);
   fw::MachineCycleOptions o;
   o.omega = 0;  // no speed
-  EXPECT_EQ(fw::SampleMachineCycle<M>(p, o).status, fw::CycleStatus::kBadOptions);
+  EXPECT_EQ(fw::SampleMachineCycle(model, p, o).status, fw::CycleStatus::kBadOptions);
   o.omega = 1;
   o.samples = 3;  // the 4-point rule needs 4
-  EXPECT_EQ(fw::SampleMachineCycle<M>(p, o).status, fw::CycleStatus::kBadOptions);
+  EXPECT_EQ(fw::SampleMachineCycle(model, p, o).status, fw::CycleStatus::kBadOptions);
   // No load: the cut reversed (F < 0 helps the ram) makes the mean torque negative.
-  p.F = -1000;
-  p.P = 0;
+  p = ParamsOf(model, {{"F", -1000.0}, {"P", 0.0}});
   o.samples = 360;
-  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
   EXPECT_EQ(c.status, fw::CycleStatus::kNoLoad) << c.message;
   // A dead point inside the cycle: a rocker so short that the link BC cannot reach the ram's
   // line for part of the turn (the positions fail there), reported with the angle.
-  M::ParamsT<double> q;
-  q.h = 4.2 + 1.45;  // B at most L = 4 high, BC = 1.5: reachable only near the top
-  const fw::MachineCycle dead = fw::SampleMachineCycle<M>(q, o);
+  // h: B at most L = 4 high, BC = 1.5: reachable only near the top.
+  const mechgen::ViewParams q = ParamsOf(model, {{"h", 4.2 + 1.45}});
+  const fw::MachineCycle dead = fw::SampleMachineCycle(model, q, o);
   EXPECT_FALSE(dead.IsUsable());
   EXPECT_TRUE(dead.status == fw::CycleStatus::kDeadPoint ||
               dead.status == fw::CycleStatus::kPositionFailed ||
@@ -248,22 +276,22 @@ TEST(FlywheelShaper, StatusesNotNumbers) {
 // out where |BD| = b + c, cos theta = (a^2 + d^2 - (b + c)^2) / (2 a d): 159.62 deg. The
 // sizing stops there with a status and that angle, no torque.
 TEST(FlywheelFourbar, ALimitPositionInsideTheCycleIsAStatusWithItsAngle) {
-  using M = mech::fourbar_loaded::Model;
-  M::ParamsT<double> p;
-  p.a = 2.6;
-  const double limit = std::acos((p.a * p.a + p.d * p.d - (p.b + p.c) * (p.b + p.c)) / (2 * p.a * p.d));
+  const View model(mech::fourbar_loaded::View());
+  const mechgen::ViewParams p = ParamsOf(model, {{"a", 2.6}});
+  const double pa = Param(model, p, "a"), pb = Param(model, p, "b");
+  const double pc = Param(model, p, "c"), pd = Param(model, p, "d");
+  const double limit = std::acos((pa * pa + pd * pd - (pb + pc) * (pb + pc)) / (2 * pa * pd));
   fw::MachineCycleOptions o;
   o.omega = 1;
   o.samples = 360;
-  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
   EXPECT_TRUE(c.status == fw::CycleStatus::kDeadPoint || c.status == fw::CycleStatus::kPositionFailed)
       << c.message;
   EXPECT_TRUE(c.points.empty());
   EXPECT_NEAR(c.failed_theta, limit, 1.5 * kDeg) << c.message;
   EXPECT_NE(c.message.find("theta = 1"), std::string::npos) << c.message;
   // The same machine with its own crank turns: sized (its loads do no net work: a zero mean).
-  M::ParamsT<double> ok;
-  EXPECT_EQ(fw::SampleMachineCycle<M>(ok, o).status, fw::CycleStatus::kOk);
+  EXPECT_EQ(fw::SampleMachineCycle(model, ParamsOf(model), o).status, fw::CycleStatus::kOk);
 }
 
 // A conservative machine (issue 45 item 12): the loaded four-bar's loads are constant forces,
@@ -272,32 +300,32 @@ TEST(FlywheelFourbar, ALimitPositionInsideTheCycleIsAStatusWithItsAngle) {
 // required torque is zero but for rounding, of either sign by the sample count. Both signs
 // make the same decision: zero (|mean| within 8 eps N max|T|), sized with T_mean = 0 exactly.
 TEST(FlywheelConservative, AZeroMeanTorqueIsZeroWhicheverWayTheRoundingFalls) {
-  auto run = [](auto model, int* positive, int* negative) {
-    using M = decltype(model);
-    typename M::template ParamsT<double> p;
+  auto run = [](const View& model, int* positive, int* negative) {
+    const char* name = CV::Name(model);
+    const mechgen::ViewParams p = ParamsOf(model);
     double delta_E = -1;
     for (int n = 360; n < 400; ++n) {
       fw::MachineCycleOptions o;
       o.omega = 10;
       o.samples = n;
-      const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
-      ASSERT_TRUE(c.IsUsable()) << M::kName << " n = " << n << ": " << c.message;
-      EXPECT_TRUE(c.zero_mean) << M::kName << " n = " << n;
+      const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
+      ASSERT_TRUE(c.IsUsable()) << name << " n = " << n << ": " << c.message;
+      EXPECT_TRUE(c.zero_mean) << name << " n = " << n;
       EXPECT_EQ(c.T_mean, 0.0);
       EXPECT_EQ(c.work, 0.0);
-      EXPECT_LE(std::abs(c.loop.mean_torque), c.T_mean_rounding) << M::kName << " n = " << n;
+      EXPECT_LE(std::abs(c.loop.mean_torque), c.T_mean_rounding) << name << " n = " << n;
       EXPECT_GT(c.T_mean_rounding, 0);
       EXPECT_LT(c.T_mean_rounding, 1e-9 * std::max(std::abs(c.T_max), std::abs(c.T_min)));
       (c.loop.mean_torque > 0 ? *positive : *negative) += 1;
       // The loop (its mean removed) and the flywheel do not depend on the rounding's sign.
       if (delta_E < 0) delta_E = c.loop.delta_E;
-      EXPECT_NEAR(c.loop.delta_E, delta_E, 1e-6 * delta_E) << M::kName << " n = " << n;
+      EXPECT_NEAR(c.loop.delta_E, delta_E, 1e-6 * delta_E) << name << " n = " << n;
       EXPECT_GT(fw::SizeFlywheel(c, 0.05).I_required, 0);
     }
   };
   int positive = 0, negative = 0;
-  run(mech::fourbar_loaded::Model(), &positive, &negative);
-  run(mech::fourbar_massive::Model(), &positive, &negative);
+  run(View(mech::fourbar_loaded::View()), &positive, &negative);
+  run(View(mech::fourbar_massive::View()), &positive, &negative);
   EXPECT_GT(positive, 0);  // both signs of rounding were met
   EXPECT_GT(negative, 0);
   // A mean negative beyond rounding (the shaper's cut reversed) stays refused:
@@ -323,8 +351,8 @@ struct Press {
 };
 
 TEST(FlywheelPunchPress, EnergyPerStrokeIsTheHandFigure) {
-  using M = mech::punch_press::Model;
-  M::ParamsT<double> p;
+  const View model(mech::punch_press::View());
+  const mechgen::ViewParams p = ParamsOf(model);
   const Press h;
   const double W_hand = h.F0 * (h.delta - h.w / 2);  // 110 J
   // T_req kinks where the punch touches (s = s_p) and where its force is full (s_p + w): the
@@ -338,7 +366,7 @@ TEST(FlywheelPunchPress, EnergyPerStrokeIsTheHandFigure) {
     fw::MachineCycleOptions o;
     o.omega = 300 * 2 * kPi / 60;
     o.samples = n;
-    const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+    const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
     ASSERT_TRUE(c.IsUsable()) << c.message;
     EXPECT_TRUE(c.has_dynamics);
     const double step = 2 * kPi / n;
@@ -351,16 +379,15 @@ TEST(FlywheelPunchPress, EnergyPerStrokeIsTheHandFigure) {
     // T_req against a second derivation: the generated kinetostatics (d'Alembert's inertia
     // forces at every link, dynamics/kinetostatics.h) at the constant speed, qdd = 0.
     if (n == 3600) {
-      mech::punch_press::Model::ParamsT<double> pk;
-      mechgen::dynamics::Kinetostatics<M> kin(pk);
-      Eigen::Matrix<double, 1, 1> q, qd, qdd;
+      mechgen::dynamics::Kinetostatics<View> kin(model, ParamsOf(model));
+      ViewVecQ q(1), qd(1), qdd(1);
       q(0) = c.points[0].theta;
       ASSERT_TRUE(kin.Initialize(q));
       qd(0) = o.omega;
       qdd(0) = 0;
       double worst = 0, largest = 0;
       for (const fw::CyclePoint& pt : c.points) {
-        typename mechgen::dynamics::Kinetostatics<M>::Row row;
+        mechgen::dynamics::Kinetostatics<View>::Row row;
         q(0) = pt.theta;
         ASSERT_EQ(kin.Evaluate(0, q, qd, qdd, &row), mechgen::dynamics::KinetostaticsStatus::kOk);
         worst = std::max(worst, std::abs(row.statics.drive(0) - pt.T_req));
@@ -387,9 +414,9 @@ TEST(FlywheelPunchPress, EnergyPerStrokeIsTheHandFigure) {
 // F0 (delta - w/2). I(theta) is the model's (the kinetic energy's; its T_inertia is checked
 // against the kinetostatics above): the test is of the integration across the switches.
 TEST(FlywheelPunchPress, SwitchesOfTheLoadsAreTheBreaks) {
-  using M = mech::punch_press::Model;
-  static_assert(mechgen::ModelFeatures<M>::kNumSwitches > 0, "the press's loads switch");
-  M::ParamsT<double> p;
+  static_assert(mechgen::ModelFeatures<mech::punch_press::Model>::kNumSwitches > 0, "the press's loads switch");
+  const View model(mech::punch_press::View());
+  const mechgen::ViewParams p = ParamsOf(model);
   const Press h;
   const double m2 = 2.5, g = 9.81;
   const double s_p = h.a + h.b - h.delta;
@@ -406,7 +433,7 @@ TEST(FlywheelPunchPress, SwitchesOfTheLoadsAreTheBreaks) {
     fw::MachineCycleOptions o;
     o.omega = omega;
     o.samples = n;
-    const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+    const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
     ASSERT_TRUE(c.IsUsable()) << c.message;
     // The switches: the clamp's two items where the ram passes s_p + w and s_p going back
     // (2 pi - t2, 2 pi - t1: the step holds the force at 0 there, but the items switch), the
@@ -444,7 +471,7 @@ TEST(FlywheelPunchPress, SwitchesOfTheLoadsAreTheBreaks) {
     fw::MachineCycleOptions by_hand = o;
     by_hand.switch_breaks = false;
     by_hand.breaks = expected;
-    const fw::MachineCycle hand = fw::SampleMachineCycle<M>(p, by_hand);
+    const fw::MachineCycle hand = fw::SampleMachineCycle(model, p, by_hand);
     ASSERT_TRUE(hand.IsUsable()) << hand.message;
     EXPECT_TRUE(hand.switches.empty());
     ASSERT_EQ(hand.breaks.size(), c.breaks.size());
@@ -461,7 +488,7 @@ TEST(FlywheelPunchPress, SwitchesOfTheLoadsAreTheBreaks) {
     EXPECT_NEAR(hand.loop.delta_E, c.loop.delta_E, 1e-9 * W_hand) << n;
     // Without the switches' breaks: second order at the punch's kinks.
     o.switch_breaks = false;
-    const fw::MachineCycle plain = fw::SampleMachineCycle<M>(p, o);
+    const fw::MachineCycle plain = fw::SampleMachineCycle(model, p, o);
     ASSERT_TRUE(plain.IsUsable());
     EXPECT_TRUE(plain.switches.empty());
     EXPECT_TRUE(plain.breaks.empty());
@@ -472,12 +499,12 @@ TEST(FlywheelPunchPress, SwitchesOfTheLoadsAreTheBreaks) {
 }
 
 TEST(FlywheelPunchPress, SimulatedCheckAgreesToOrderCs) {
-  using M = mech::punch_press::Model;
-  M::ParamsT<double> p;
+  const View model(mech::punch_press::View());
+  const mechgen::ViewParams p = ParamsOf(model);
   fw::MachineCycleOptions o;
   o.omega = 300 * 2 * kPi / 60;
   o.samples = 7200;
-  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
   ASSERT_TRUE(c.IsUsable()) << c.message;
   for (double C_s : {0.02, 0.05}) {
     const fw::FlywheelSize f = fw::SizeFlywheel(c, C_s);
@@ -485,7 +512,7 @@ TEST(FlywheelPunchPress, SimulatedCheckAgreesToOrderCs) {
     EXPECT_NEAR(f.I_flywheel, c.loop.delta_E / (C_s * o.omega * o.omega) - c.I_mean, 1e-12 * f.I_required);
     fw::CheckOptions co;
     co.law = fw::MotorLaw::kConstant;
-    const fw::SimulatedCheck sim = fw::CheckBySimulation<M>(p, c, f.I_flywheel, co);
+    const fw::SimulatedCheck sim = fw::CheckBySimulation(model, p, c, f.I_flywheel, co);
     ASSERT_TRUE(sim.ok) << sim.message;
     EXPECT_LT(std::abs(sim.last_change), 1e-5);  // the neutral cycle's creep per cycle
     // The energy loop assumes a constant inertia and the inertia torque at w_m: the simulated
@@ -499,7 +526,7 @@ TEST(FlywheelPunchPress, SimulatedCheckAgreesToOrderCs) {
     // A shunt motor gives torque as the machine slows: a smaller fluctuation.
     co.law = fw::MotorLaw::kShunt;
     co.slip = 0.05;
-    const fw::SimulatedCheck shunt = fw::CheckBySimulation<M>(p, c, f.I_flywheel, co);
+    const fw::SimulatedCheck shunt = fw::CheckBySimulation(model, p, c, f.I_flywheel, co);
     ASSERT_TRUE(shunt.ok) << shunt.message;
     EXPECT_LT(shunt.trace.C_s, sim.trace.C_s);
     EXPECT_GT(shunt.trace.C_s, 0.3 * C_s);
@@ -517,18 +544,20 @@ TEST(FlywheelPunchPress, SimulatedCheckAgreesToOrderCs) {
 // table leaves out near the dead points (about v0^2/(2 a) per dead point, a ~ 20 m/s^2 the
 // ram's acceleration there: a few 1e-5 m of travel, well under 0.1 J).
 TEST(FlywheelShaperCutting, TheCheckOfAHeavyFlywheelFindsItsSteadyCycle) {
-  using M = mech::shaper_cutting::Model;
-  M::ParamsT<double> p;
+  const View model(mech::shaper_cutting::View());
+  const mechgen::ViewParams p = ParamsOf(model);
   Shaper hand;
-  hand.r = p.r, hand.d = p.d, hand.L = p.L, hand.l = p.l, hand.h = p.h;
+  hand.r = Param(model, p, "r"), hand.d = Param(model, p, "d"), hand.L = Param(model, p, "L");
+  hand.l = Param(model, p, "l"), hand.h = Param(model, p, "h");
+  const double Fc = Param(model, p, "Fc");
   const double stroke = hand.x(-30 * kDeg) - hand.x(210 * kDeg);
   EXPECT_NEAR(stroke, 0.48, 1e-3);  // the rocker's swing +-30 deg: 2 L sin 30 deg, nearly
   fw::MachineCycleOptions o;
   o.omega = 60 * 2 * kPi / 60;
-  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
   ASSERT_TRUE(c.IsUsable()) << c.message;
-  EXPECT_NEAR(c.work, p.Fc * stroke, 0.1) << "the cut's work per turn";
-  EXPECT_LE(c.work, p.Fc * stroke);
+  EXPECT_NEAR(c.work, Fc * stroke, 0.1) << "the cut's work per turn";
+  EXPECT_LE(c.work, Fc * stroke);
   const double C_s = 0.02;
   const fw::FlywheelSize f = fw::SizeFlywheel(c, C_s);
   ASSERT_TRUE(f.needed);
@@ -543,7 +572,7 @@ TEST(FlywheelShaperCutting, TheCheckOfAHeavyFlywheelFindsItsSteadyCycle) {
     lo.omega *= 1 - 1e-3;
     hi.omega *= 1 + 1e-3;
     const double slope =
-        (fw::SampleMachineCycle<M>(p, hi).T_mean - fw::SampleMachineCycle<M>(p, lo).T_mean) / (2e-3 * o.omega);
+        (fw::SampleMachineCycle(model, p, hi).T_mean - fw::SampleMachineCycle(model, p, lo).T_mean) / (2e-3 * o.omega);
     EXPECT_GT(slope, 0);  // faster: a longer cut
     EXPECT_LT(slope, 1e-3);
     EXPECT_LT(std::abs(c.dT_mean_domega), 1e-3);
@@ -551,7 +580,7 @@ TEST(FlywheelShaperCutting, TheCheckOfAHeavyFlywheelFindsItsSteadyCycle) {
   for (fw::MotorLaw law : {fw::MotorLaw::kConstant, fw::MotorLaw::kShunt}) {
     fw::CheckOptions co;
     co.law = law;
-    const fw::SimulatedCheck sim = fw::CheckBySimulation<M>(p, c, f.I_flywheel, co);
+    const fw::SimulatedCheck sim = fw::CheckBySimulation(model, p, c, f.I_flywheel, co);
     ASSERT_TRUE(sim.ok) << fw::ToString(law) << ": " << sim.message;
     // Steady by what C_s needs: the cycle-mean speed changing per cycle by a small fraction
     // of the fluctuation asked for (so the drift within the measured cycle is that fraction
@@ -623,10 +652,9 @@ struct Crusher {
   double M(double t) const { return std::sin(t - 60 * kDeg) > 0 ? M0 : 0.0; }  // on the jaw, CCW +
 };
 
-int ReactionIndex(const char* name) {
-  using M = mech::crusher::Model;
-  for (int i = 0; i < static_cast<int>(std::size(M::kReactionNames)); ++i)
-    if (std::strcmp(M::kReactionNames[i], name) == 0) return i;
+int ReactionIndex(const View& model, const char* name) {
+  for (int i = 0; i < CV::NumReactions(model); ++i)
+    if (std::strcmp(CV::ReactionName(model, i), name) == 0) return i;
   ADD_FAILURE() << name;
   return 0;
 }
@@ -636,26 +664,25 @@ int ReactionIndex(const char* name) {
 // on the jaw is F_C = f u along u = (C - B)/|C - B|, and the jaw's moments about O6 give
 // (C - O6) x f u + M = 0; the ground's force on it F_O6 = -F_C.
 TEST(FlywheelCrusher, StaticsByVirtualWorkAndTheJawsFreeBody) {
-  using M = mech::crusher::Model;
-  using VecQ = Eigen::Matrix<double, 1, 1>;
-  M::ParamsT<double> p;
+  const View model(mech::crusher::View());
+  const mechgen::ViewParams p = ParamsOf(model);
   const Crusher h;
-  mechgen::position::PositionSolver<M> solver(mechgen::position::Options(), p);
+  mechgen::ViewPositionSolver solver(model, mechgen::position::Options(), p);
   mechgen::position::Summary summary;
   ASSERT_EQ(solver.AssembleDefault(&summary), mechgen::position::Status::kConverged);
-  const int Cx = ReactionIndex("F_C_x"), Cy = ReactionIndex("F_C_y");
-  const int Ox = ReactionIndex("F_O6_x"), Oy = ReactionIndex("F_O6_y");
+  const int Cx = ReactionIndex(model, "F_C_x"), Cy = ReactionIndex(model, "F_C_y");
+  const int Ox = ReactionIndex(model, "F_O6_x"), Oy = ReactionIndex(model, "F_O6_y");
   int loaded = 0;
   for (int k = 0; k <= 360; k += 3) {
     const double t = (k + 0.5) * kDeg;  // off the switches at 60 and 240 deg
-    VecQ q;
+    ViewVecQ q(1);
     q(0) = t;
     ASSERT_EQ(solver.MoveTo(q, &summary), mechgen::position::Status::kConverged) << k;
     const auto& state = solver.state();
-    M::CoefficientsT<double> c;
-    M::Coeffs<double>(p, q, state.phi, &c);
-    mechgen::statics::Solution<M> run;
-    ASSERT_EQ(mechgen::statics::Solve<M>(mechgen::statics::Options(), p, q, state.phi, c, VecQ::Zero(), &run),
+    mechgen::ModelTypes<View>::Coefficients c;
+    CV::Coeffs(model, p, q, state.phi, &c);
+    mechgen::statics::Solution<View> run;
+    ASSERT_EQ(mechgen::statics::Solve(model, mechgen::statics::Options(), p, q, state.phi, c, ViewVecQ::Zero(1), &run),
               mechgen::statics::Status::kConverged);
     const double T_hand = -h.M(t) * h.djaw(t);
     EXPECT_NEAR(run.statics.drive(0), T_hand, 1e-6 * h.M0 * 0.2) << k << " deg";
@@ -680,8 +707,8 @@ TEST(FlywheelCrusher, StaticsByVirtualWorkAndTheJawsFreeBody) {
 // order (measured: E within 1.9e-10 of W at 720 samples, 1.1e-11 at 1440, the ratio 18) where
 // without them it is first order (1.4e-4 and 7.1e-5 of W).
 TEST(FlywheelCrusher, EnergyLoopAgainstTheHandLoop) {
-  using M = mech::crusher::Model;
-  M::ParamsT<double> p;
+  const View model(mech::crusher::View());
+  const mechgen::ViewParams p = ParamsOf(model);
   const Crusher h;
   const double a = 60 * kDeg, b = 240 * kDeg;
   const double W = h.M0 * (h.jaw(a) - h.jaw(b));
@@ -697,7 +724,7 @@ TEST(FlywheelCrusher, EnergyLoopAgainstTheHandLoop) {
     o.omega = 2 * kPi * 20 / 60;  // 20 rpm
     o.samples = n;
     o.breaks = {a, b};
-    const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+    const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
     ASSERT_TRUE(c.IsUsable()) << c.message;
     EXPECT_TRUE(c.switches.empty());
     ASSERT_EQ(c.break_sides.size(), 2u);
@@ -712,7 +739,7 @@ TEST(FlywheelCrusher, EnergyLoopAgainstTheHandLoop) {
     }
     previous = worst;
     o.breaks.clear();
-    const fw::MachineCycle plain = fw::SampleMachineCycle<M>(p, o);
+    const fw::MachineCycle plain = fw::SampleMachineCycle(model, p, o);
     ASSERT_TRUE(plain.IsUsable()) << plain.message;
     double off = 0;
     for (const fw::CyclePoint& pt : plain.points) off = std::max(off, std::abs(pt.E - E_hand(pt.theta)));
@@ -743,8 +770,8 @@ double GaussLegendre(const std::function<double(double)>& f, double a, double b,
 // all of it a flywheel (massless machine). The switches are the breaks (given: no switch
 // modes without dynamics).
 TEST(FlywheelCrusher, FlywheelAgainstAQuadratureOfTheHandTorque) {
-  using M = mech::crusher::Model;
-  M::ParamsT<double> p;
+  const View model(mech::crusher::View());
+  const mechgen::ViewParams p = ParamsOf(model);
   const Crusher h;
   const double a = 60 * kDeg, b = 240 * kDeg;
   // The velocity analysis against the angles' central difference (measured within 3.9e-10).
@@ -784,7 +811,7 @@ TEST(FlywheelCrusher, FlywheelAgainstAQuadratureOfTheHandTorque) {
   o.omega = omega;
   o.samples = 720;
   o.breaks = {a, b};
-  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  const fw::MachineCycle c = fw::SampleMachineCycle(model, p, o);
   ASSERT_TRUE(c.IsUsable()) << c.message;
   EXPECT_NEAR(c.work, W, 1e-9 * W);
   EXPECT_NEAR(c.T_mean, T_mean, 1e-9 * T_mean);
