@@ -49,34 +49,20 @@
 // compiled once, in mechgen_runtime_view); of the generated models' studies, the four-bar's is
 // compiled once (study_test.cc), the loaded four-bar's and the press's only for
 // ExpectViewFirstOrderSame.
-namespace mech::fourbar {
-const mechgen::ModelView& View();
-}
-namespace mech::fourbar_loaded {
-const mechgen::ModelView& View();
-}
-namespace mech::slider_crank {
-const mechgen::ModelView& View();
-}
+MECHGEN_DECLARE_MODEL_VIEW(fourbar)
+MECHGEN_DECLARE_MODEL_VIEW(fourbar_loaded)
+MECHGEN_DECLARE_MODEL_VIEW(slider_crank)
 #ifdef MECHGEN_STUDY_TEST_SHAPER
-namespace mech::shaper {
-const mechgen::ModelView& View();
-}
+MECHGEN_DECLARE_MODEL_VIEW(shaper)
 #endif
 #ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
-namespace mech::design_press {
-const mechgen::ModelView& View();
-}
+MECHGEN_DECLARE_MODEL_VIEW(design_press)
 #endif
 #ifdef MECHGEN_STUDY_TEST_PENDULUM
-namespace mech::pendulum_spring {
-const mechgen::ModelView& View();
-}
+MECHGEN_DECLARE_MODEL_VIEW(pendulum_spring)
 #endif
 #ifdef MECHGEN_STUDY_TEST_ENGINE
-namespace mech::engine_single {
-const mechgen::ModelView& View();
-}
+MECHGEN_DECLARE_MODEL_VIEW(engine_single)
 #endif
 
 // The study of the four-bar (every test file's) compiled once, in study_test.cc; the view's in
