@@ -26,9 +26,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <initializer_list>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "common/gnuplot.h"
@@ -38,6 +36,7 @@
 #include "mechgen/machines/flywheel/machine_cycle.h"
 #include "mechgen/machines/view_machines.h"
 #include "punch_press.h"
+#include "view_test_util.h"  // (tests/runtime)
 
 namespace {
 
@@ -58,17 +57,8 @@ using View = mechgen::ViewModel;
 using CV = mechgen::ModelCalls<View>;
 using ViewVecQ = mechgen::ModelTypes<View>::VecQ;
 
-// The view's default parameters with those named set (the derived ones brought up to date).
-mechgen::ViewParams ParamsOf(const View& model, std::initializer_list<std::pair<const char*, double>> set = {}) {
-  mechgen::ViewParams p = CV::DefaultParams(model);
-  for (const auto& [name, value] : set) {
-    double* v = CV::FindParameter(model, &p, name);
-    EXPECT_NE(v, nullptr) << name;
-    if (v != nullptr) *v = value;
-  }
-  CV::ParametersSet(model, &p);
-  return p;
-}
+using mechgen::view_test::ParamsOf;  // a view's parameters set by name (tests/runtime/view_test_util.h)
+
 // The parameter `name` of p.
 double Param(const View& model, mechgen::ViewParams p, const char* name) {
   const double* v = CV::FindParameter(model, &p, name);

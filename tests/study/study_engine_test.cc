@@ -26,7 +26,7 @@ struct DirectEngine {
 DirectEngine RunEngineDirectly(double r, double l, double rpm, int samples, const mechgen::engine::PressureTable* table) {
   namespace eng = mechgen::engine;
   const mechgen::ViewModel model = EngineModel();
-  mechgen::ViewParams p = ViewParamsOf(model, {{"r", r}, {"l", l}});
+  mechgen::ViewParams p = ParamsOf(model, {{"r", r}, {"l", l}});
   DirectEngine out;
   eng::Engine e;
   std::string error;

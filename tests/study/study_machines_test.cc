@@ -62,7 +62,7 @@ TEST(StudyFlywheel, ShaperGridAgainstTheHandWorkAndLinearInTheForce) {
       for (int k = 0; k < 4; ++k) EXPECT_NEAR(big.metrics[k] / results[i].metrics[k], 3, 1e-12) << i << " " << k;
     }
     // The study's figure is the machine cycle's at that design, bit for bit.
-    const mechgen::ViewParams p = ViewParamsOf(model, {{"F", F}, {"L", L}, {"l", l}, {"P", 0}});
+    const mechgen::ViewParams p = ParamsOf(model, {{"F", F}, {"L", L}, {"l", l}, {"P", 0}});
     mechgen::flywheel::MachineCycleOptions o;
     o.omega = 2 * pi;
     o.samples = 720;
@@ -104,7 +104,7 @@ TEST(StudyFlywheel, ColumnsOfTheEnergyLoopByName) {
   for (size_t i = 0; i < results.size(); ++i) {
     ASSERT_STREQ(results[i].status, "ok") << i;
     const std::vector<double>& m = results[i].metrics;
-    const mechgen::ViewParams p = ViewParamsOf(model, {{"F", v[3 * i]}, {"L", v[3 * i + 1]}, {"P", 0}});
+    const mechgen::ViewParams p = ParamsOf(model, {{"F", v[3 * i]}, {"L", v[3 * i + 1]}, {"P", 0}});
     mechgen::flywheel::MachineCycleOptions o;
     o.omega = 2 * pi;
     o.samples = 720;

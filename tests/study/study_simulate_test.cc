@@ -181,7 +181,7 @@ TEST(StudySimulate, DrivenPendulumPeakTorqueAndBearingAgainstHandFormulasAndTheR
     EXPECT_NEAR(one[i].metrics[2], lambda(omega * t_end / 2), 1e-9 * (1 + std::abs(lambda(omega * t_end / 2)))) << i;
     EXPECT_EQ(one[i].metrics[3], 0) << i;
     // The runtime called directly, as the simulate tool's driven run (the library's).
-    const mechgen::ViewParams p = ViewParamsOf(model, {{"k", k}, {"Fy", Fy}});
+    const mechgen::ViewParams p = ParamsOf(model, {{"k", k}, {"Fy", Fy}});
     namespace dyn = mechgen::dynamics;
     using Sim = dyn::ViewPrescribedDopri5;
     dyn::PrescribedOptions options;

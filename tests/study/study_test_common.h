@@ -13,11 +13,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <initializer_list>
 #include <mutex>
 #include <sstream>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "fourbar.h"
@@ -34,6 +32,7 @@
 #include "mechgen/study/shards.h"
 #include "mechgen/study/spec.h"
 #include "mechgen/study/tolerance.h"
+#include "view_test_util.h"  // (tests/runtime)
 #ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
 #include "design_press.h"
 #endif
@@ -96,20 +95,8 @@ inline std::string ErrorOf(const std::string& name, const std::string& text) {
 
 // ---- through the model view (issue 43) ---------------------------------------------------------
 
-// A model's parameters through its view: the defaults, the free ones in `values` set by name,
-// then the derived ones (as the study sets a sample's).
-using ViewCalls = mechgen::ModelCalls<mechgen::ViewModel>;
-inline mechgen::ViewParams ViewParamsOf(const mechgen::ViewModel& model,
-                                        std::initializer_list<std::pair<const char*, double>> values) {
-  mechgen::ViewParams p = ViewCalls::DefaultParams(model);
-  for (const auto& [name, value] : values) {
-    double* x = ViewCalls::FindParameter(model, &p, name);
-    EXPECT_NE(x, nullptr) << name;
-    if (x != nullptr) *x = value;
-  }
-  ViewCalls::ParametersSet(model, &p);
-  return p;
-}
+// A model's parameters through its view, set by name (tests/runtime/view_test_util.h).
+using mechgen::view_test::ParamsOf;
 
 // The study through the model view (Study<ViewModel>, the runtime compiled once, the view's
 // Design, StaticsDesign and DesignChecks) against the generated model's: each metric at the
