@@ -126,6 +126,18 @@ function(_mechgen_add_tool name tool)
   if(MECHGEN_CLI11_INCLUDE_DIR)
     target_include_directories(${name}_${tool} SYSTEM PRIVATE "${MECHGEN_CLI11_INCLUDE_DIR}")
   endif()
+  _mechgen_link_tool_args(${name}_${tool})
+endfunction()
+
+# In mechgen's own build tree the tools' option parsers (runtime/tools/<tool>_args.cc, the same
+# for every model) are compiled once, into mechgen_tool_args (generator/CMakeLists.txt): each
+# tool links them instead of compiling CLI11's part again (7 to 10 s of each tool's compile, a
+# quarter of a statics tool's). Elsewhere (find_package(mechgen)) the tool's main includes them.
+function(_mechgen_link_tool_args target)
+  if(TARGET mechgen_tool_args)
+    target_compile_definitions(${target} PRIVATE MECHGEN_TOOL_ARGS_SEPARATE)
+    target_link_libraries(${target} PRIVATE mechgen_tool_args)
+  endif()
 endfunction()
 
 # In mechgen_add_model: whether to define the tool `var` (sets it): asked for (`force`), or
@@ -213,6 +225,7 @@ function(mechgen_add_model name model)
       MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
     target_link_libraries(${name}_sweep PRIVATE mechgen_model_${name} mechgen::runtime_ceres)
     target_compile_options(${name}_sweep PRIVATE ${MECHGEN_TOOL_COMPILE_OPTIONS})
+    _mechgen_link_tool_args(${name}_sweep)
     set_property(GLOBAL APPEND PROPERTY MECHGEN_MODEL_TOOLS ${name}_sweep)
     _mechgen_wants(statics ARG_STATICS ARG_NO_STATICS)
     if(statics AND EXISTS "${MECHGEN_TOOLS_DIR}/statics_main.cc")

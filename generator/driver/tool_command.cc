@@ -99,7 +99,7 @@ struct ToolSpec {
 
 const std::vector<ToolSpec>& Specs() {
   static const std::vector<ToolSpec> specs = {
-      {"sweep", "sweep_main.cc", {"-DMECHGEN_SWEEP_NO_CERES", "-DMECHGEN_SWEEP_ARGS_SEPARATE"}, true, "",
+      {"sweep", "sweep_main.cc", {"-DMECHGEN_SWEEP_NO_CERES", "-DMECHGEN_TOOL_ARGS_SEPARATE"}, true, "",
        "the positions, velocity and centripetal coefficients and points along the inputs' range: table, "
        "CSV and SVG",
        {},

@@ -67,7 +67,7 @@
 // command around it), the same source the runtime instantiated once for the model view runs
 // (mechgen_view engine, issue 43).
 // Options are parsed by engine_args.cc (CLI11, independent of the model: included here, or
-// compiled apart with -DMECHGEN_ENGINE_ARGS_SEPARATE) with the command-line layer of every
+// compiled apart with -DMECHGEN_TOOL_ARGS_SEPARATE) with the command-line layer of every
 // tool (runtime/tools/common/):
 // `--opt=value` or `--opt value`, each number finite and in the range --help lists (e.g. --rpm
 // in [1e-3, 1e5], --t-end in (0, 1e6] s, --dt at least --t-end / 1e8 so that the run-up's time
@@ -77,7 +77,7 @@
 // one line "<tool>: error: ..." on stderr). No output file is written unless the whole computation
 // succeeded (io/output_file.h).
 #include "engine_args.h"
-#ifndef MECHGEN_ENGINE_ARGS_SEPARATE
+#ifndef MECHGEN_TOOL_ARGS_SEPARATE
 #include "engine_args.cc"
 #endif
 #include "engine_run.h"

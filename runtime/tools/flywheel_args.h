@@ -1,9 +1,9 @@
 // The command line of the flywheel command (flywheel_main.cc), apart from the model: parsed
 // with CLI11 in flywheel_args.cc, which does not depend on the model. flywheel_main.cc
-// includes flywheel_args.cc (one translation unit, as mechgen_add_model() compiles it) unless
-// it is compiled with -DMECHGEN_FLYWHEEL_ARGS_SEPARATE: then flywheel_args.cc is compiled once
-// on its own and linked in (as sweep_args.cc for the sweep command: a model's first run need
-// not compile CLI11 again). The checks are the command-line layer of every tool (common/cli.h
+// includes flywheel_args.cc (one translation unit) unless it is compiled with
+// -DMECHGEN_TOOL_ARGS_SEPARATE: then flywheel_args.cc is compiled once on its own and linked in
+// (mechgen_tool_args: mechgen_add_model()'s tools in the build tree, the driver, mechgen_view).
+// The checks are the command-line layer of every tool (common/cli.h
 // on CLI11, common/numbers.h without it); what needs the model (--design without a `design`
 // section, --check without `dynamics`, --samples against the model's cycle, the parameters)
 // is checked by flywheel_main.cc.

@@ -29,12 +29,12 @@
 // (one line "<tool>: error: ..."); 3 the model does not assemble. A model generated without
 // `forces` builds into a stub that says so (exit status 2). The options are parsed by
 // flywheel_args.cc (CLI11, independent of the model: included here, or compiled apart with
-// -DMECHGEN_FLYWHEEL_ARGS_SEPARATE). Eigen, CLI11 only (the runtime's
+// -DMECHGEN_TOOL_ARGS_SEPARATE). Eigen, CLI11 only (the runtime's
 // Newton assembler). The model-dependent part is the flywheel analysis
 // (mechgen/analysis/flywheel.h; flywheel_run.h the command around it: the pictures), the same
 // source the runtime instantiated once for the model view runs (mechgen_view flywheel, issue 43).
 #include "flywheel_args.h"
-#ifndef MECHGEN_FLYWHEEL_ARGS_SEPARATE
+#ifndef MECHGEN_TOOL_ARGS_SEPARATE
 #include "flywheel_args.cc"
 #endif
 #include <functional>

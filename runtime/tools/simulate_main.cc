@@ -62,7 +62,9 @@
 // analysis/simulate_design.h; simulate_run.h the command around it), the same source the
 // runtime instantiated once for the model view runs (`mechgen_view simulate MODEL.so`, issue 43).
 #include "simulate_args.h"
+#ifndef MECHGEN_TOOL_ARGS_SEPARATE
 #include "simulate_args.cc"  // the options (CLI11), in this translation unit
+#endif
 #include "simulate_run.h"
 #include "mechgen/analysis/simulate.h"
 #include "mechgen/analysis/simulate_design.h"

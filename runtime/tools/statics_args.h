@@ -1,9 +1,9 @@
 // The command line of the statics command (statics_main.cc), apart from the model: parsed
 // with CLI11 in statics_args.cc, which does not depend on the model (so that `mechgen statics`
 // can answer --help and a bad option before anything is compiled). statics_main.cc includes
-// statics_args.cc (one translation unit, as mechgen_add_model() compiles it) unless it is
-// compiled with -DMECHGEN_STATICS_ARGS_SEPARATE: then statics_args.cc is compiled on its own
-// and linked in. The checks are the command-line layer of every tool (common/cli.h on
+// statics_args.cc (one translation unit) unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE:
+// then statics_args.cc is compiled on its own and linked in (mechgen_tool_args:
+// mechgen_add_model()'s tools in the build tree, the driver, mechgen_view). The checks are the command-line layer of every tool (common/cli.h on
 // CLI11, common/numbers.h without it); what needs the model (--range's inputs, the step and
 // scan limits, --design, rpm on a slide input) statics_main.cc checks.
 #pragma once

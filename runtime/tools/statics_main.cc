@@ -41,7 +41,7 @@
 #include <string>
 
 #include "statics_args.h"
-#ifndef MECHGEN_STATICS_ARGS_SEPARATE
+#ifndef MECHGEN_TOOL_ARGS_SEPARATE
 #include "statics_args.cc"
 #endif
 #include "statics_run.h"

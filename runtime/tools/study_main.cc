@@ -16,7 +16,7 @@
 // file:line:column), 1 the study does not fit the model or an output cannot be written (nothing
 // written).
 #include "study_args.h"
-#ifndef MECHGEN_STUDY_ARGS_SEPARATE
+#ifndef MECHGEN_TOOL_ARGS_SEPARATE
 #include "study_args.cc"
 #endif
 #include "mechgen/analysis/study.h"

@@ -27,7 +27,7 @@
 #include <string>
 
 #include "sweep_args.h"
-#ifndef MECHGEN_SWEEP_ARGS_SEPARATE
+#ifndef MECHGEN_TOOL_ARGS_SEPARATE
 #include "sweep_args.cc"
 #endif
 #include "sweep_run.h"

@@ -1,7 +1,8 @@
 // The command line of the synthesize command (synthesize_main.cc), apart from the model: parsed
 // with CLI11 in synthesize_args.cc, which does not depend on the model (synthesize_main.cc
-// includes it: one translation unit; `mechgen` links it to answer --help and a bad option before
-// anything is generated or compiled). The checks are the command-line layer of every tool
+// includes it, one translation unit, unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE;
+// `mechgen` links it to answer --help and a bad option before anything is generated or
+// compiled). The checks are the command-line layer of every tool
 // (common/cli.h on CLI11, common/numbers.h without it).
 #pragma once
 

@@ -36,7 +36,9 @@
 
 #include "synthesize_args.h"
 // One translation unit: the command-line part compiled with the driver.
+#ifndef MECHGEN_TOOL_ARGS_SEPARATE
 #include "synthesize_args.cc"
+#endif
 #include "mechgen/analysis/synthesize.h"
 #include "synthesize_run.h"
 
