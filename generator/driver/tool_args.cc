@@ -73,8 +73,6 @@ ParseFn Find(const std::string& tool) {
 
 }  // namespace
 
-bool HasToolParser(const std::string& tool) { return Find(tool) != nullptr; }
-
 int ParseToolOptions(const std::string& tool, const std::string& argv0, const std::string& model_name,
                      const std::vector<std::string>& args) {
   const ParseFn parse = Find(tool);

@@ -10,9 +10,6 @@
 
 namespace mechgen {
 
-/// Whether mechgen holds the parser of `tool`'s options.
-bool HasToolParser(const std::string& tool);
-
 /// Parses `args` (the options after the model) with `tool`'s own parser, its argv[0] being
 /// `argv0` (the tool's name in messages) and `model_name` the model in its --help. Returns -1
 /// to go on (the options parse, or the tool has no parser here), else the exit status to end

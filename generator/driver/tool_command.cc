@@ -63,8 +63,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bumped when the layout of an entry or the way it is built changes.
-// 2: sweep.sha256 beside sweep; 3: every tool, its name and all of runtime/tools/ in the key.
-constexpr const char* kCacheFormat = "mechgen tool cache 3";
+// 2: sweep.sha256 beside sweep; 3: every tool, its name and all of runtime/tools/ in the key;
+// 4: every tool's CLI11 part compiled once (<tool>/args-<key>.o), not the sweep's only.
+constexpr const char* kCacheFormat = "mechgen tool cache 4";
 // The models' shared objects for mechgen_view (cache folder view/).
 constexpr const char* kViewCacheFormat = "mechgen view cache 1";
 // Every compile, after its optimization level (below); the driver adds its own.
@@ -86,7 +87,6 @@ struct ToolSpec {
   std::string name;                // "statics": the command, the cache's folder, the program
   std::string main;                // its driver in runtime/tools/
   std::vector<std::string> flags;  // the driver's own (each is Ceres-free)
-  bool separate_args = false;      // its CLI11 part (sweep_args.cc) compiled once for all models
   std::string quantity;            // what the model's outputs must have; "" nothing
   std::string summary;             // what the analysis gives (mechgen --help)
   std::vector<std::string> libs = {};  // linked after the objects, beyond the C++ library
@@ -99,39 +99,39 @@ struct ToolSpec {
 
 const std::vector<ToolSpec>& Specs() {
   static const std::vector<ToolSpec> specs = {
-      {"sweep", "sweep_main.cc", {"-DMECHGEN_SWEEP_NO_CERES", "-DMECHGEN_TOOL_ARGS_SEPARATE"}, true, "",
+      {"sweep", "sweep_main.cc", {"-DMECHGEN_SWEEP_NO_CERES"}, "",
        "the positions, velocity and centripetal coefficients and points along the inputs' range: table, "
        "CSV and SVG",
        {},
        false,
        true},
-      {"statics", "statics_main.cc", {"-DMECHGEN_TOOL_NO_CERES"}, false, "forces",
+      {"statics", "statics_main.cc", {"-DMECHGEN_TOOL_NO_CERES"}, "forces",
        "the driving forces (with friction: to run the input in +q and in -q), reactions, potential and "
        "mechanical advantage along the range, dead zones and equilibria; --plots draws the driving torque "
        "and the ground bearings' polar diagrams with gnuplot (needs the output `forces`)",
        {},
        false,
        true},
-      {"simulate", "simulate_main.cc", {}, false, "dynamics",
+      {"simulate", "simulate_main.cc", {}, "dynamics",
        "forward dynamics from rest or a given state, or a prescribed motion with its motor torque and "
        "bearing loads (needs the output `dynamics`)",
        {},
        false,
        true},
-      {"engine", "engine_main.cc", {}, false, "dynamics",
+      {"engine", "engine_main.cc", {}, "dynamics",
        "an engine made by tools/make_engine.py: crank torque, bearing loads, flywheel sizing and run-up "
        "(needs the output `dynamics`)",
        {},
        false,
        true},
-      {"flywheel", "flywheel_main.cc", {}, false, "forces",
+      {"flywheel", "flywheel_main.cc", {}, "forces",
        "flywheel sizing of a one-input machine: the driving torque at constant speed over a cycle, its "
        "energy loop, the flywheel for a coefficient of speed fluctuation and, with `dynamics`, its "
        "simulated check under a motor law (needs the output `forces`)",
        {},
        false,
        true},
-      {"synthesize", "synthesize_main.cc", {}, false, "",
+      {"synthesize", "synthesize_main.cc", {}, "",
        "dimensional synthesis from a task file (--task): path generation by differential evolution and "
        "Levenberg-Marquardt on the generated design derivatives (or, `kind: exact`, every four-bar through "
        "five points with both pivots given, by homotopy continuation); the synthesized model file, an SVG and a "
@@ -139,7 +139,7 @@ const std::vector<ToolSpec>& Specs() {
        {"-lceres", "-lglog", "-lgflags", "-lyaml-cpp", "-pthread"},
        false,
        true},
-      {"study", "study_main.cc", {"-pthread"}, false, "",
+      {"study", "study_main.cc", {"-pthread"}, "",
        "a design study from --study FILE (docs/studies.md): grid, list, Latin hypercube or Monte-Carlo samples "
        "on every core, metrics per sample in a CSV, first-order tolerances beside the Monte-Carlo",
        {"-lyaml-cpp", "-pthread"},
@@ -209,7 +209,7 @@ struct Toolchain {
   std::vector<std::string> compiler;  // $CXX split at blanks, or "c++"
   std::string compiler_identity;      // resolved path, size, modification time
   fs::path runtime_include;           // holds mechgen/position/solver.h
-  fs::path tools;                     // holds the drivers (<tool>_main.cc, sweep_args.*, common/)
+  fs::path tools;                     // holds the drivers (<tool>_main.cc, <tool>_args.*, common/)
   std::string eigen_include;          // holds Eigen/Core
   std::string cli11_include;          // holds CLI/CLI.hpp; empty: a default search directory
   std::vector<std::string> mpi_compiler;  // a ToolSpec::mpi driver's compiler (mpicxx); empty: none
@@ -280,8 +280,7 @@ bool FindToolchain(const ToolSpec& spec, Toolchain* t) {
                      : " and " + std::string(MECHGEN_SOURCE_RUNTIME_INCLUDE)) +
                 "); is mechgen installed whole?"), false;
   std::vector<std::string> needed = {spec.main, "common/numbers.h", "common/cli.h"};
-  if (spec.separate_args || HasToolParser(spec.name))
-    needed.insert(needed.end(), {spec.name + "_args.h", spec.name + "_args.cc"});
+  needed.insert(needed.end(), {spec.name + "_args.h", spec.name + "_args.cc"});
   for (const std::string& file : needed) {
     if (!fs::exists(t->tools / file, ec))
       return Fail("cannot find the " + spec.name + " driver " + (t->tools / file).string() +
@@ -405,16 +404,18 @@ std::string EntryKey(const ToolSpec& spec, const std::string& model_bytes, const
   return Sha256Hex(material).substr(0, 32);
 }
 
-// The CLI11 part, the same for every model.
-std::string ArgsKey(const Toolchain& t) {
+// A tool's CLI11 part (runtime/tools/<tool>_args.cc), the same for every model: its two files,
+// the command-line layer (common/) and every runtime header (what an args file reads from the
+// runtime differs by tool: a list of them could miss one).
+std::string ArgsKey(const ToolSpec& spec, const Toolchain& t) {
   std::string material = kCacheFormat;
-  for (const char* file : {"sweep_args.h", "sweep_args.cc", "common/numbers.h", "common/cli.h", "common/params.h"})
+  AddPart(&material, "tool", spec.name);
+  for (const std::string& file : {spec.name + "_args.h", spec.name + "_args.cc"})
     AddPart(&material, file, ReadOrEmpty(t.tools / file));
-  // What those include from the runtime: the sweep's request and the numbers' checks.
-  for (const char* file : {"mechgen/analysis/sweep_request.h", "mechgen/analysis/params.h",
-                           "mechgen/analysis/numbers.h", "mechgen/io/format.h"})
-    AddPart(&material, file, ReadOrEmpty(t.runtime_include / file));
+  AddTree(&material, t.tools / "common", "");
+  AddTree(&material, t.runtime_include / "mechgen", "");
   material += ToolchainPart(t);
+  AddPart(&material, "eigen", t.eigen_include);
   const fs::path cli11 = t.cli11_include.empty() ? fs::path("/usr/include") : fs::path(t.cli11_include);
   AddPart(&material, "cli11", t.cli11_include + "\n" + ReadOrEmpty(cli11 / "CLI/Version.hpp"));
   return Sha256Hex(material).substr(0, 32);
@@ -849,8 +850,8 @@ int CheckQuantity(const ToolSpec& spec, const ToolCommand& c, const std::string&
 }
 
 // Generates and compiles the model's <tool> program in `dir`: dir/<tool>. `args_object` (the
-// sweep's CLI11 part): used if it exists, else compiled into dir/args.o and renamed to it
-// (when not empty). Returns 0, or the exit status after printing the error.
+// tool's CLI11 part, <tool>_args.cc): used if it exists, else compiled into dir/args.o and
+// renamed to it (when not empty). Returns 0, or the exit status after printing the error.
 int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate, const Toolchain& t,
           const std::string& model_bytes, const fs::path& dir, const fs::path& args_object,
           std::string* model_name) {
@@ -870,7 +871,7 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
   std::cerr << "mechgen: compiling " << what << " (" << c.model_path << "; once, then cached)...\n";
   const auto compile_start = std::chrono::steady_clock::now();
   std::error_code ec;
-  bool have_args = spec.separate_args && !args_object.empty() && fs::exists(args_object, ec);
+  bool have_args = !args_object.empty() && fs::exists(args_object, ec);
   std::string why;
   if (have_args && !MatchesRecord(args_object, &why)) {
     // Damaged: compiled afresh below and put in its place.
@@ -879,11 +880,10 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
     have_args = false;
   }
   std::vector<std::string> main_args = spec.flags;
+  main_args.push_back("-DMECHGEN_TOOL_ARGS_SEPARATE");  // <tool>_args.cc: the object below
   main_args.insert(main_args.end(), {"-DMECHGEN_MODEL_INCLUDE=\"" + name + ".h\"",
                                      "-DMECHGEN_MODEL_NAMESPACE=mech::" + name, "-I" + dir.string(),
                                      "-I" + t.runtime_include.string(), "-isystem", t.eigen_include});
-  if (!spec.separate_args && !t.cli11_include.empty())
-    main_args.insert(main_args.end(), {"-isystem", t.cli11_include});
   main_args.push_back("-DMECHGEN_TOOLS_DIR=\"" + t.tools.string() + "\"");  // statics --plots' scripts
   if (!t.mpi_compiler.empty()) main_args.push_back("-DMECHGEN_STUDY_MPI");
   main_args.insert(main_args.end(),
@@ -893,12 +893,12 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
   jobs.push_back({Command(t, {"-isystem", t.eigen_include, "-c", (dir / (name + ".cc")).string(), "-o",
                               (dir / (name + ".o")).string()}),
                   dir / "model.log"});
-  if (spec.separate_args && !have_args) {
+  if (!have_args) {
     std::vector<std::string> args;
     if (!t.cli11_include.empty()) args = {"-isystem", t.cli11_include};
-    // (sweep_args.h includes the sweep's request, mechgen/analysis/sweep_request.h.)
-    args.insert(args.end(), {"-I" + t.runtime_include.string(), "-c", (t.tools / "sweep_args.cc").string(), "-o",
-                             (dir / "args.o").string()});
+    // (An args file reads the runtime's requests and constants: mechgen/analysis/sweep_request.h, ...)
+    args.insert(args.end(), {"-I" + t.runtime_include.string(), "-isystem", t.eigen_include, "-c",
+                             (t.tools / (spec.name + "_args.cc")).string(), "-o", (dir / "args.o").string()});
     jobs.push_back({Command(t, args), dir / "args.log"});
   }
   if (!RunJobs(&jobs, "compiling " + what, c.verbose)) return 1;
@@ -906,7 +906,7 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
   std::vector<Job> link(1);
   link[0].argv = t.mpi_compiler.empty() ? t.compiler : t.mpi_compiler;
   link[0].argv.insert(link[0].argv.end(), {(dir / "main.o").string(), (dir / (name + ".o")).string()});
-  if (spec.separate_args) link[0].argv.push_back(have_args ? args_object.string() : (dir / "args.o").string());
+  link[0].argv.push_back(have_args ? args_object.string() : (dir / "args.o").string());
   link[0].argv.insert(link[0].argv.end(), {"-o", program.string()});
   link[0].argv.insert(link[0].argv.end(), spec.libs.begin(), spec.libs.end());
   link[0].log = dir / "link.log";
@@ -914,7 +914,7 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
   // The program's record, in the entry; the CLI11 object's for later models, then the object
   // (rename: whole or not at all).
   if (!WriteRecord(program)) return Fail("cannot record the size and SHA-256 of " + program.string());
-  if (spec.separate_args && !have_args && !args_object.empty() && WriteRecord(dir / "args.o")) {
+  if (!have_args && !args_object.empty() && WriteRecord(dir / "args.o")) {
     fs::rename(RecordPath(dir / "args.o"), RecordPath(args_object), ec);
     if (!ec) fs::rename(dir / "args.o", args_object, ec);
   }
@@ -1306,12 +1306,12 @@ int RunTool(const ToolCommand& c, const GenerateFn& generate) {
     route.artefact = spec.name;
     route.what = spec.name + " command";
     route.key = EntryKey(spec, model_bytes, c.templates, t);
-    // The sweep's CLI11 object, kept for later models in the cache's folder (cached runs only:
+    // The tool's CLI11 object, kept for later models in the cache's folder (cached runs only:
     // --no-cache and an unreadable model keep nothing).
     fs::path args_object;
     fs::path root;
-    if (spec.separate_args && !c.no_cache && readable && CacheRoot(c.cache_dir, &root))
-      args_object = root / spec.name / ("args-" + ArgsKey(t) + ".o");
+    if (!c.no_cache && readable && CacheRoot(c.cache_dir, &root))
+      args_object = root / spec.name / ("args-" + ArgsKey(spec, t) + ".o");
     route.build = [&](const fs::path& dir) {
       std::string name;
       return Build(spec, c, generate, t, model_bytes, dir, args_object, &name);

@@ -13,9 +13,9 @@
 // bytes, the templates, the drivers' sources (runtime/tools/), the runtime headers, the
 // compiler (its path, size and time) and the flags. An entry is built in <tool>/tmp/ and
 // renamed into place whole (rename(2) is atomic), so an interrupted or failed build leaves no
-// entry, and two runs at once at worst both compile (the first rename wins). The sweep's
-// CLI11 part (runtime/tools/sweep_args.cc, the same for every model) is compiled once into
-// sweep/args-<key>.o. Each cached program and object has its size and SHA-256 recorded
+// entry, and two runs at once at worst both compile (the first rename wins). Each tool's
+// CLI11 part (runtime/tools/<tool>_args.cc, the same for every model) is compiled once into
+// <tool>/args-<key>.o. Each cached program and object has its size and SHA-256 recorded
 // beside it when it is built (<file>.sha256); it is checked before each use (the program
 // through the descriptor that is then executed), and one that does not match (truncated,
 // overwritten) is said so on stderr and built again, never run.

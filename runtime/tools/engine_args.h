@@ -1,10 +1,12 @@
-// The command line of the engine command (engine_main.cc), apart from the model: parsed with
-// CLI11 in engine_args.cc, which does not depend on the model. engine_main.cc includes
-// engine_args.cc (one translation unit) unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE:
-// then engine_args.cc is compiled once on its own and linked in (mechgen_tool_args:
-// mechgen_add_model()'s tools in the build tree, the driver, mechgen_view). The checks are the command-line layer
-// of every tool (common/cli.h on CLI11, common/numbers.h without it); the pressure table's file
-// and the law's parameters together are checked by engine_main.cc (machines/engine/gas.h).
+// The command line of the engine command (engine_main.cc), apart from the model: parsed with CLI11
+// in engine_args.cc, which does not depend on the model. engine_main.cc includes engine_args.cc
+// (one translation unit) unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE: then
+// engine_args.cc is compiled once on its own and linked in (mechgen_tool_args in the build tree:
+// mechgen_view, the driver and mechgen_add_model()'s tools; `mechgen engine` keeps the object in
+// its cache for every model, so that a model's first run does not compile CLI11 again). The checks
+// are the command-line layer of every tool (common/cli.h on CLI11, common/numbers.h without it);
+// the pressure table's file and the law's parameters together are checked by engine_main.cc
+// (machines/engine/gas.h).
 #pragma once
 
 #include <string>

@@ -1,12 +1,12 @@
-// The command line of the flywheel command (flywheel_main.cc), apart from the model: parsed
-// with CLI11 in flywheel_args.cc, which does not depend on the model. flywheel_main.cc
-// includes flywheel_args.cc (one translation unit) unless it is compiled with
-// -DMECHGEN_TOOL_ARGS_SEPARATE: then flywheel_args.cc is compiled once on its own and linked in
-// (mechgen_tool_args: mechgen_add_model()'s tools in the build tree, the driver, mechgen_view).
-// The checks are the command-line layer of every tool (common/cli.h
-// on CLI11, common/numbers.h without it); what needs the model (--design without a `design`
-// section, --check without `dynamics`, --samples against the model's cycle, the parameters)
-// is checked by flywheel_main.cc.
+// The command line of the flywheel command (flywheel_main.cc), apart from the model: parsed with
+// CLI11 in flywheel_args.cc, which does not depend on the model. flywheel_main.cc includes
+// flywheel_args.cc (one translation unit) unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE:
+// then flywheel_args.cc is compiled once on its own and linked in (mechgen_tool_args in the build
+// tree: mechgen_view, the driver and mechgen_add_model()'s tools; `mechgen flywheel` keeps the
+// object in its cache for every model, so that a model's first run does not compile CLI11 again).
+// The checks are the command-line layer of every tool (common/cli.h on CLI11, common/numbers.h
+// without it); what needs the model (--design without a `design` section, --check without
+// `dynamics`, --samples against the model's cycle, the parameters) is checked by flywheel_main.cc.
 #pragma once
 
 #include <limits>

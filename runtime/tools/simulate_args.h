@@ -1,13 +1,14 @@
-// The command line of the simulate command (simulate_main.cc), apart from the model: parsed
-// with CLI11 in simulate_args.cc, which does not depend on the model, so that `mechgen
-// simulate MODEL --help` and a bad option are answered before the model is generated or
-// compiled (generator/driver/tool_args.cc links it into mechgen). simulate_main.cc includes
-// simulate_args.cc (one translation unit, as `mechgen simulate` compiles it) unless it is
-// compiled with -DMECHGEN_TOOL_ARGS_SEPARATE: then simulate_args.cc is compiled once on its own
-// and linked in (mechgen_tool_args: mechgen_add_model()'s tools in the build tree). What depends on the model is checked by the simulation analysis
-// (mechgen/analysis/simulate.h: Check, Run): the number of --q0 and --qd0 values, a --drive's
-// input name, a --drive table's file, --friction on and --design against what the model has,
-// the --set and --params names.
+// The command line of the simulate command (simulate_main.cc), apart from the model: parsed with
+// CLI11 in simulate_args.cc, which does not depend on the model, so that `mechgen simulate MODEL
+// --help` and a bad option are answered before the model is generated or compiled
+// (generator/driver/tool_args.cc links it into mechgen). simulate_main.cc includes simulate_args.cc
+// (one translation unit) unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE: then
+// simulate_args.cc is compiled once on its own and linked in (mechgen_tool_args in the build tree:
+// mechgen_view, the driver and mechgen_add_model()'s tools; `mechgen simulate` keeps the object in
+// its cache for every model, so that a model's first run does not compile CLI11 again). What
+// depends on the model is checked by the simulation analysis (mechgen/analysis/simulate.h: Check,
+// Run): the number of --q0 and --qd0 values, a --drive's input name, a --drive table's file,
+// --friction on and --design against what the model has, the --set and --params names.
 #pragma once
 
 #include <string>

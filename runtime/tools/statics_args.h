@@ -1,11 +1,13 @@
-// The command line of the statics command (statics_main.cc), apart from the model: parsed
-// with CLI11 in statics_args.cc, which does not depend on the model (so that `mechgen statics`
-// can answer --help and a bad option before anything is compiled). statics_main.cc includes
+// The command line of the statics command (statics_main.cc), apart from the model: parsed with
+// CLI11 in statics_args.cc, which does not depend on the model (so that `mechgen statics` can
+// answer --help and a bad option before anything is compiled). statics_main.cc includes
 // statics_args.cc (one translation unit) unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE:
-// then statics_args.cc is compiled on its own and linked in (mechgen_tool_args:
-// mechgen_add_model()'s tools in the build tree, the driver, mechgen_view). The checks are the command-line layer of every tool (common/cli.h on
-// CLI11, common/numbers.h without it); what needs the model (--range's inputs, the step and
-// scan limits, --design, rpm on a slide input) statics_main.cc checks.
+// then statics_args.cc is compiled once on its own and linked in (mechgen_tool_args in the build
+// tree: mechgen_view, the driver and mechgen_add_model()'s tools; `mechgen statics` keeps the
+// object in its cache for every model, so that a model's first run does not compile CLI11 again).
+// The checks are the command-line layer of every tool (common/cli.h on CLI11, common/numbers.h
+// without it); what needs the model (--range's inputs, the step and scan limits, --design, rpm on a
+// slide input) statics_main.cc checks.
 #pragma once
 
 #include <limits>

@@ -1,9 +1,10 @@
-// The command line of the study command (study_main.cc), apart from the model: parsed with
-// CLI11 in study_args.cc, which does not depend on the model. study_main.cc includes
-// study_args.cc (one translation unit) unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE:
-// then study_args.cc is compiled once on its own and linked in (mechgen_tool_args, as for every
-// tool: generator/CMakeLists.txt). The checks
-// are the command-line layer of every tool (common/cli.h on CLI11, common/numbers.h without it).
+// The command line of the study command (study_main.cc), apart from the model: parsed with CLI11 in
+// study_args.cc, which does not depend on the model. study_main.cc includes study_args.cc (one
+// translation unit) unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE: then study_args.cc is
+// compiled once on its own and linked in (mechgen_tool_args in the build tree: mechgen_view, the
+// driver and mechgen_add_model()'s tools; `mechgen study` keeps the object in its cache for every
+// model, so that a model's first run does not compile CLI11 again). The checks are the command-line
+// layer of every tool (common/cli.h on CLI11, common/numbers.h without it).
 #pragma once
 
 #include <string>

@@ -1,9 +1,9 @@
-// The command line of the sweep command (sweep_main.cc), apart from the model: parsed with
-// CLI11 in sweep_args.cc, which does not depend on the model. sweep_main.cc includes
-// sweep_args.cc (one translation unit) unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE:
-// then sweep_args.cc is compiled once on its own and linked in (mechgen_add_model()'s tools in
-// the build tree link mechgen_tool_args; `mechgen sweep` keeps that object in its cache for
-// every model, so that a model's first run does not compile CLI11 again). The checks are the command-line
+// The command line of the sweep command (sweep_main.cc), apart from the model: parsed with CLI11 in
+// sweep_args.cc, which does not depend on the model. sweep_main.cc includes sweep_args.cc (one
+// translation unit) unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE: then sweep_args.cc is
+// compiled once on its own and linked in (mechgen_tool_args in the build tree: mechgen_view, the
+// driver and mechgen_add_model()'s tools; `mechgen sweep` keeps the object in its cache for every
+// model, so that a model's first run does not compile CLI11 again). The checks are the command-line
 // layer of every tool (common/cli.h on CLI11, common/numbers.h without it).
 #pragma once
 

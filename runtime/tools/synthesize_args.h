@@ -1,9 +1,12 @@
 // The command line of the synthesize command (synthesize_main.cc), apart from the model: parsed
-// with CLI11 in synthesize_args.cc, which does not depend on the model (synthesize_main.cc
-// includes it, one translation unit, unless it is compiled with -DMECHGEN_TOOL_ARGS_SEPARATE;
-// `mechgen` links it to answer --help and a bad option before anything is generated or
-// compiled). The checks are the command-line layer of every tool
-// (common/cli.h on CLI11, common/numbers.h without it).
+// with CLI11 in synthesize_args.cc, which does not depend on the model (`mechgen` links it to
+// answer --help and a bad option before anything is generated or compiled). synthesize_main.cc
+// includes synthesize_args.cc (one translation unit) unless it is compiled with
+// -DMECHGEN_TOOL_ARGS_SEPARATE: then synthesize_args.cc is compiled once on its own and linked in
+// (mechgen_tool_args in the build tree: mechgen_view, the driver and mechgen_add_model()'s tools;
+// `mechgen synthesize` keeps the object in its cache for every model, so that a model's first run
+// does not compile CLI11 again). The checks are the command-line layer of every tool (common/cli.h
+// on CLI11, common/numbers.h without it).
 #pragma once
 
 #include <string>
