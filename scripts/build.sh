@@ -18,9 +18,6 @@ bash scripts/deps.sh "${MECHGEN_DEPS:-all}"
 launcher=()
 if command -v ccache >/dev/null; then
   export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD}
-  # The generator's precompiled header (generator/CMakeLists.txt): ccache caches the compiles
-  # that use it only with these (its manual, "Precompiled headers").
-  export CCACHE_SLOPPINESS=${CCACHE_SLOPPINESS:-pch_defines,time_macros,include_file_mtime,include_file_ctime}
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 fi
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" \

@@ -48,8 +48,6 @@ if command -v ccache >/dev/null; then
   # compilation directory); not hashing it lets a clone in another folder share the entries,
   # whose line tables then name the first clone's folder (reports keep the file and line).
   export CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-true}
-  # The generator's precompiled header, as in scripts/build.sh.
-  export CCACHE_SLOPPINESS=${CCACHE_SLOPPINESS:-pch_defines,time_macros,include_file_mtime,include_file_ctime}
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 fi
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
