@@ -35,7 +35,8 @@
 #include <string>
 
 #include "synthesize_args.h"
-// One translation unit: the command-line part compiled with the driver.
+// The command-line part in this translation unit, unless it is linked compiled once
+// (-DMECHGEN_TOOL_ARGS_SEPARATE: synthesize_args.h).
 #ifndef MECHGEN_TOOL_ARGS_SEPARATE
 #include "synthesize_args.cc"
 #endif
