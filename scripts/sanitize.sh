@@ -2,7 +2,9 @@
 # Second stage of the test command: the generator and the runtime's view instantiation built
 # with AddressSanitizer and UndefinedBehaviorSanitizer in ./build-asan (MECHGEN_ASAN_BUILD
 # overrides), and the tests labelled `sanitizer` run there (`ctest -L sanitizer`). Called by
-# scripts/test.sh (and so by .ci/run) after the Release suite, which runs every test.
+# scripts/test.sh (and so by .ci/run) after the Release suite, which runs every other test
+# (`ctest -LE sanitizer`) and builds none of the GoogleTest programs whose tests all run here
+# (mechgen_sanitizer_tests(), tests/CMakeLists.txt).
 # What this stage runs (mechgen_sanitized() in the tests' CMake files; MECHGEN_SANITIZER_STAGE=ON
 # builds only what they need, the top-level CMakeLists.txt):
 #   - the generator: its own GoogleTest programs (tests/generator: the symbolic pipeline, the
@@ -22,7 +24,9 @@
 # stop 56 (their Release build: 1,319 s), and CI's 45 minutes (issue 43) left no room for both.
 # Two tests that repeat identical generator runs to compare their bytes stay in the Release suite
 # (GeneratedFiles.SameBytesOnEveryRun, Report.SameBytesFromSeparateProcesses): repeating the same
-# runs adds no sanitizer coverage. Extra ctest arguments are passed on (e.g. -R generator).
+# runs adds no sanitizer coverage. Their programs (generator_cli_test, report_test) are labelled
+# slow in the Release build and sanitizer here: they run in both stages, but for those two
+# tests here. Extra ctest arguments are passed on (e.g. -R generator).
 # Optimization: -Og with line tables (-g1) for everything: the generator, the runtime's view
 # library, the model libraries and the test programs (MECHGEN_TEST_OPTIMIZATION in the
 # top-level CMakeLists.txt). The sanitizers instrument at every level (their manuals advise
