@@ -25,8 +25,8 @@
 # Two tests that repeat identical generator runs to compare their bytes stay in the Release suite
 # (GeneratedFiles.SameBytesOnEveryRun, Report.SameBytesFromSeparateProcesses): repeating the same
 # runs adds no sanitizer coverage. Their programs (generator_cli_test, report_test) are labelled
-# slow in the Release build and sanitizer here: they run in both stages, but for those two
-# tests here. Extra ctest arguments are passed on (e.g. -R generator).
+# slow in the Release build and sanitizer here: they run in both stages, those two tests in the
+# Release stage only. Extra ctest arguments are passed on (e.g. -R generator).
 # Optimization: -Og with line tables (-g1) for everything: the generator, the runtime's view
 # library, the model libraries and the test programs (MECHGEN_TEST_OPTIMIZATION in the
 # top-level CMakeLists.txt). The sanitizers instrument at every level (their manuals advise

@@ -15,13 +15,11 @@ start=$(date +%s)
 # Every test but those labelled sanitizer runs here, the GoogleTest programs at -O1
 # (tests/CMakeLists.txt) on what the user's compiler makes of the runtime; the sanitizer stage
 # (scripts/sanitize.sh) then builds the generator and the runtime's view instantiation with ASan
-# and UBSan and runs the tests that exercise those (label sanitizer). MECHGEN_SANITIZERS=0 skips
-# that stage and runs every test here.
-# When the sanitizer stage runs, the tests labelled sanitizer (the generator's own GoogleTest
-# programs, model_test, the commands through the view, the hostile models) run there only: the
-# Release stage neither builds their GoogleTest programs (MECHGEN_SANITIZER_STAGE_FOLLOWS, the
-# top-level CMakeLists.txt) nor runs them (-LE sanitizer). Each test runs once, in the build that
-# checks it most; MECHGEN_SANITIZERS=0 runs every test here.
+# and UBSan and runs the tests labelled sanitizer (the generator's own GoogleTest programs,
+# model_test, the commands through the view, the hostile models) there only: this stage neither
+# builds their GoogleTest programs (MECHGEN_SANITIZER_STAGE_FOLLOWS, the top-level CMakeLists.txt)
+# nor runs them (-LE sanitizer). Each test runs once, in the build that checks it most;
+# MECHGEN_SANITIZERS=0 skips that stage and runs every test here.
 follows=ON release_tests=(-LE sanitizer)
 if [ "${MECHGEN_SANITIZERS:-1}" = "0" ]; then follows=OFF release_tests=(); fi
 MECHGEN_BUILD_BENCHMARKS=OFF MECHGEN_ALL_MODEL_TOOLS=OFF MECHGEN_UNIT_TESTS=ON \
